@@ -1,0 +1,12 @@
+# vkr_add_module(NAME DIR [DEPS ...]): a static library from every .cpp in DIR.
+# Each folder of the layout is one such library, so a module's dependencies are explicit
+# and a half-finished file elsewhere never breaks it.
+function(vkr_add_module name dir)
+  cmake_parse_arguments(ARG "" "" "DEPS" ${ARGN})
+  get_filename_component(dir ${dir} ABSOLUTE BASE_DIR ${CMAKE_CURRENT_SOURCE_DIR})
+  file(GLOB sources CONFIGURE_DEPENDS ${dir}/*.cpp)
+  add_library(${name} STATIC ${sources})
+  target_include_directories(${name} PUBLIC ${PROJECT_SOURCE_DIR})
+  target_compile_options(${name} PRIVATE -Wall -Wextra -Wno-missing-field-initializers)
+  target_link_libraries(${name} PUBLIC ${ARG_DEPS})
+endfunction()

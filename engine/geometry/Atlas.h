@@ -1,0 +1,45 @@
+#pragma once
+// The texture atlas: every face of every node gets a rectangular chart, sized in
+// proportion to the face's world-space extent at the initial parameters, and the layout
+// does not change during a run (DESIGN.md).
+
+#include <Eigen/Core>
+#include <vector>
+
+#include "engine/geometry/Mesh.h"
+#include "engine/image/Image.h"
+
+namespace vkr {
+
+// A chart's place in the atlas, in texels; the face's face_uv ∈ [0,1]² maps linearly onto
+// [x, x+w]×[y, y+h]. A gutter of texels surrounds every chart so bilinear filtering never
+// mixes two faces.
+struct Chart {
+  int node = 0, face = 0;
+  float x = 0, y = 0, w = 0, h = 0;
+};
+
+struct AtlasLayout {
+  int size = 0;                        // atlas is size × size texels
+  std::vector<Chart> charts;           // one per (node, face) with a primitive
+  double texels_per_metre = 0.0;       // the common scale of all charts
+
+  // Atlas UV (in [0,1]²) of a face_uv inside chart `c`.
+  Eigen::Vector2f AtlasUv(const Chart& c, const Eigen::Vector2f& face_uv) const;
+};
+
+// Packs the faces of `meshes` (one per node, empty for nodes without a primitive) whose
+// world matrices at the initial parameters are `world_from_node`. Chart sides are
+// proportional to the faces' world extents along face_uv's u and v (at least a few texels),
+// scaled as large as fits into size² with `gutter` texels around each chart.
+AtlasLayout PackAtlas(const std::vector<Mesh>& meshes,
+                      const std::vector<Eigen::Matrix4d>& world_from_node, int size,
+                      int gutter = 2);
+
+// Paints each node's albedo image into its charts (texels outside every chart stay 0,
+// alpha 0; texels inside get alpha 1), then bleeds chart borders into their gutters.
+// `albedo[n]` empty means mid grey. The result is in the encoded colour space.
+Image BakeAlbedoAtlas(const AtlasLayout& layout, const std::vector<Mesh>& meshes,
+                      const std::vector<Image>& albedo);
+
+}  // namespace vkr

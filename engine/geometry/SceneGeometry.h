@@ -1,0 +1,41 @@
+#pragma once
+// Everything a scene draws, flattened for the GPU: one vertex and one index array for all
+// nodes (uploaded once per run), and the atlas layout. A vertex carries its node's index,
+// so a whole hypothesis is one draw reading node matrices from a small buffer.
+
+#include <cstdint>
+#include <vector>
+
+#include "engine/geometry/Atlas.h"
+#include "engine/geometry/Mesh.h"
+#include "engine/scene/Scene.h"
+
+namespace vkr {
+
+// std430/vertex-input friendly: 40 bytes.
+struct GpuVertex {
+  float position[3];  // node frame
+  float normal[3];    // node frame
+  float atlas_uv[2];  // [0,1]², atlas texel centre convention: texel (i,j) at ((i+.5)/N, (j+.5)/N)
+  uint32_t node;      // index into Scene::nodes
+  uint32_t face;      // global face (= chart) index, for per-face lookups
+};
+static_assert(sizeof(GpuVertex) == 40);
+
+struct SceneGeometry {
+  std::vector<Mesh> meshes;  // per node; empty for transform-only nodes
+  AtlasLayout atlas;
+  std::vector<GpuVertex> vertices;
+  std::vector<uint32_t> indices;
+};
+
+// Builds meshes (primitives, glTF files), packs the atlas at Ψ = `psi_layout` (usually the
+// initial values) and flattens. Throws InputError for unreadable meshes.
+SceneGeometry BuildSceneGeometry(const Scene& scene, const std::vector<double>& psi_layout,
+                                 int atlas_size);
+
+// Each node's albedo image (empty Image for nodes without one). Throws InputError naming
+// the scene file and nodes[i].albedo when a texture cannot be read.
+std::vector<Image> LoadAlbedos(const Scene& scene);
+
+}  // namespace vkr

@@ -1,0 +1,169 @@
+#pragma once
+// The scene model: what a scene file describes, independent of Vulkan (DESIGN.md,
+// "Scene file"). A Scene is immutable after loading; a hypothesis Ψ is a vector of
+// parameter values in the order of Scene::parameters, and the scene turns it into node
+// matrices and cameras.
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <filesystem>
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace vkr {
+
+class ExpressionTable;
+
+// A number in a scene file: a constant, or an expression over parameter names
+// compiled once into the scene's ExpressionTable.
+struct Scalar {
+  double constant = 0.0;
+  int expression = -1;  // index into ExpressionTable; -1 means `constant`
+  bool IsConstant() const { return expression < 0; }
+};
+
+// A parameter's prior. Uniform: a = lo, b = hi. Normal: a = mean, b = sd.
+struct Prior {
+  enum class Kind { Uniform, Normal };
+  Kind kind = Kind::Uniform;
+  double a = 0.0, b = 1.0;
+
+  // Log density up to a constant; -infinity outside a uniform's support.
+  double LogDensity(double x) const;
+  // Scale of the prior: hi - lo, or 4 sd. Proposal widths and errors are relative to it.
+  double Width() const;
+  // Mean of the prior (the starting point when a parameter has no `init`).
+  double Centre() const;
+};
+
+struct Parameter {
+  std::string name;
+  Prior prior;
+  // Hard limits; a normal prior without bounds is unbounded.
+  std::optional<std::pair<double, double>> bounds;
+  std::optional<double> init;
+  // `init`, else the prior's centre clamped into the bounds.
+  double Initial() const;
+  // Whether x lies inside the prior's support and the bounds.
+  bool Admissible(double x) const;
+};
+
+enum class PrimitiveKind { None, Plane, Box, Prism, Cylinder, Mesh };
+const char* ToString(PrimitiveKind kind);
+
+// One component of a node's or camera's transform chain.
+struct Transform {
+  enum class Kind { Translate, Rotate, Scale };
+  Kind kind = Kind::Translate;
+  Scalar value[3];  // metres, degrees (rotations applied z·y·x), or factors
+};
+
+struct Node {
+  std::string name;
+  int parent = -1;  // index into Scene::nodes; parents always precede children
+  PrimitiveKind primitive = PrimitiveKind::None;
+  std::filesystem::path mesh;    // absolute path, for PrimitiveKind::Mesh
+  std::filesystem::path albedo;  // absolute path, or empty
+  std::vector<Transform> transforms;  // first outermost: world = parent · T1 · T2 · …
+};
+
+// A camera as written in the scene (entries may be expressions).
+struct CameraModel {
+  std::string name;
+  std::filesystem::path image;  // absolute path
+  int width = 0, height = 0;
+  Scalar K[9];  // row-major, upper triangular
+  Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
+  Eigen::Vector3d t = Eigen::Vector3d::Zero();
+  // Optional transforms that move the camera in the world:
+  // world_from_cam' = pose · world_from_cam.
+  std::vector<Transform> pose;
+};
+
+// A camera evaluated at one hypothesis. OpenCV convention: x_cam = R·X + t, the camera
+// looks down +z, image y points down, the image spans [0,W]×[0,H] and pixel (i, j) has its
+// centre at (i+0.5, j+0.5).
+struct Camera {
+  std::string name;
+  std::filesystem::path image;
+  int width = 0, height = 0;
+  Eigen::Matrix3d K = Eigen::Matrix3d::Identity();
+  Eigen::Matrix4d cam_from_world = Eigen::Matrix4d::Identity();
+
+  Eigen::Matrix3d R() const { return cam_from_world.topLeftCorner<3, 3>(); }
+  Eigen::Vector3d t() const { return cam_from_world.topRightCorner<3, 1>(); }
+  Eigen::Vector3d Centre() const { return -R().transpose() * t(); }
+  // Pixel coordinates of a world point (no check that it is in front).
+  Eigen::Vector2d Project(const Eigen::Vector3d& world) const;
+};
+
+struct LikelihoodSettings {
+  std::string kind = "surface";  // "surface" | "image"
+  double sigma = 8.0;            // noise sd on the 0–255 scale
+  std::string weights = "angle"; // "uniform" | "angle"
+  int atlas = 1024;              // atlas side in texels
+  int levels = 3;                // pyramid levels
+};
+
+struct SamplerSettings {
+  int iterations = 4000;
+  int chains = 4;
+  int batch = 16;
+  std::uint64_t seed = 1;
+};
+
+class Scene {
+ public:
+  Scene();
+  ~Scene();
+  Scene(Scene&&) noexcept;
+  Scene& operator=(Scene&&) noexcept;
+
+  std::filesystem::path file;        // the scene file (absolute)
+  std::filesystem::path images_dir;  // where camera images resolve (absolute)
+  std::vector<Parameter> parameters;
+  std::vector<Node> nodes;
+  std::vector<CameraModel> cameras;
+  LikelihoodSettings likelihood;
+  SamplerSettings sampler;
+
+  int ParameterIndex(const std::string& name) const;  // -1 if absent
+  std::vector<double> InitialValues() const;
+
+  // Reads an `--at` file ({"name": value, …}). Every parameter must be given, and no
+  // unknown name; otherwise InputError naming the file and the key.
+  std::vector<double> ValuesFromFile(const std::filesystem::path& at_file) const;
+  // Writes values in the same format.
+  void WriteValues(const std::filesystem::path& file, const std::vector<double>& psi) const;
+
+  double Evaluate(const Scalar& s, const std::vector<double>& psi) const;
+  // world_from_node for every node, in the order of `nodes`.
+  std::vector<Eigen::Matrix4d> WorldFromNode(const std::vector<double>& psi) const;
+  std::vector<Camera> Cameras(const std::vector<double>& psi) const;
+
+  ExpressionTable& expressions() { return *expressions_; }
+  const ExpressionTable& expressions() const { return *expressions_; }
+
+ private:
+  std::unique_ptr<ExpressionTable> expressions_;
+};
+
+// `--set PATH=VALUE` overrides, applied to the JSON before it is interpreted.
+struct SceneOverride {
+  std::string path;   // dotted path, e.g. "likelihood.sigma" or "sampler.seed"
+  std::string value;  // parsed as JSON if it parses, else taken as a string
+};
+
+// Loads and validates a scene file. Throws InputError (file, JSON path, problem) for every
+// bad input listed in DESIGN.md.
+Scene LoadScene(const std::filesystem::path& file,
+                const std::vector<SceneOverride>& overrides = {});
+
+// The 4×4 matrix of a transform chain at Ψ: T1 · T2 · …
+Eigen::Matrix4d ComposeTransforms(const Scene& scene, const std::vector<Transform>& chain,
+                                  const std::vector<double>& psi);
+
+}  // namespace vkr

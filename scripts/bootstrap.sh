@@ -1,0 +1,44 @@
+#!/usr/bin/env bash
+# Installs exactly the Debian packages vkrecon needs, from the compiler up.
+# Idempotent: runs `apt-get update` and `apt-get install` only when something is missing.
+# Works as root or through sudo; a bare Debian 12 with nothing but apt is enough.
+set -euo pipefail
+
+PACKAGES=(
+  # toolchain
+  g++ cmake ninja-build ccache pkg-config git ca-certificates
+  # Vulkan: loader + headers, Mesa lavapipe (the CPU device), validation layer, shader compiler
+  libvulkan-dev mesa-vulkan-drivers vulkan-validationlayers glslang-tools
+  # libraries
+  libeigen3-dev libopenexr-dev libtinygltf-dev nlohmann-json3-dev libstb-dev
+  libcli11-dev libmuparser-dev libgtest-dev
+  # python3 draws the plots of the sweep and benchmark scripts (optional at run time)
+  python3
+)
+
+missing=()
+for p in "${PACKAGES[@]}"; do
+  # dpkg-query prints "install ok installed" only for a fully installed package.
+  if [ "$(dpkg-query -W -f='${Status}' "$p" 2>/dev/null)" != "install ok installed" ]; then
+    missing+=("$p")
+  fi
+done
+
+if [ ${#missing[@]} -eq 0 ]; then
+  echo "bootstrap: all ${#PACKAGES[@]} packages present" >&2
+  exit 0
+fi
+
+if [ "$(id -u)" -eq 0 ]; then
+  SUDO=()
+elif command -v sudo >/dev/null 2>&1; then
+  SUDO=(sudo)
+else
+  echo "bootstrap: missing packages (${missing[*]}) and neither root nor sudo available" >&2
+  exit 1
+fi
+
+echo "bootstrap: installing ${missing[*]}" >&2
+export DEBIAN_FRONTEND=noninteractive
+"${SUDO[@]}" apt-get update -qq
+"${SUDO[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}" >&2
