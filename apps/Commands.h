@@ -1,0 +1,39 @@
+#pragma once
+// The subcommands of `vkrecon`. Each Run* parses its own arguments and calls a typed library
+// function; exit codes follow DESIGN.md: 0 success, 2 bad input, 1 anything else.
+
+#include <CLI/CLI.hpp>
+
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "engine/scene/Scene.h"
+#include "engine/vk/Device.h"
+
+namespace vkr::app {
+
+int RunDevices(int argc, char** argv);
+int RunSynth(int argc, char** argv);
+int RunRender(int argc, char** argv);
+
+// Parses argv; returns an exit status when the command should stop now (--help: 0 after
+// printing help; a bad option: 2 after one line naming it), nothing to go on.
+std::optional<int> Parse(CLI::App& app, int argc, char** argv);
+
+// Options every subcommand that reads a scene shares.
+struct SceneArgs {
+  std::string scene;
+  std::vector<std::string> sets;  // PATH=VALUE
+  int device = -1;
+};
+void AddSceneArgs(CLI::App& app, SceneArgs& args);
+std::vector<SceneOverride> ParseOverrides(const std::vector<std::string>& sets);
+
+// Opens the Vulkan device (--device / VKRECON_DEVICE); says which on stderr unless quiet.
+std::unique_ptr<vk::Device> OpenDevice(int index, bool quiet = false);
+// Fails (exit 1) when the validation layer reported anything during the command.
+int FinishWithDevice(const vk::Device& device, int status);
+
+}  // namespace vkr::app

@@ -1,0 +1,60 @@
+#include <iostream>
+
+#include "apps/Commands.h"
+#include "engine/common/InputError.h"
+
+namespace vkr::app {
+
+std::optional<int> Parse(CLI::App& app, int argc, char** argv) {
+  try {
+    app.parse(argc, argv);
+    return std::nullopt;
+  } catch (const CLI::CallForHelp&) {
+    std::cout << app.help();
+    return 0;
+  } catch (const CLI::ParseError& e) {
+    std::cerr << "vkrecon " << app.get_name() << ": " << e.what() << " (see --help)\n";
+    return 2;
+  }
+}
+
+void AddSceneArgs(CLI::App& app, SceneArgs& args) {
+  app.add_option("scene", args.scene, "scene file (JSON, see README)")->required();
+  app.add_option("--set", args.sets,
+                 "override a scene-file field by its dotted path, e.g. --set likelihood.sigma=4 "
+                 "(repeatable)");
+  app.add_option("--device", args.device,
+                 "Vulkan device index from `vkrecon devices` (default: VKRECON_DEVICE, else the "
+                 "best GPU, else lavapipe)");
+}
+
+std::vector<SceneOverride> ParseOverrides(const std::vector<std::string>& sets) {
+  std::vector<SceneOverride> out;
+  for (const std::string& s : sets) {
+    const size_t eq = s.find('=');
+    if (eq == std::string::npos || eq == 0)
+      throw InputError("", "--set", "expected PATH=VALUE, got '" + s + "'");
+    out.push_back({s.substr(0, eq), s.substr(eq + 1)});
+  }
+  return out;
+}
+
+std::unique_ptr<vk::Device> OpenDevice(int index, bool quiet) {
+  vk::DeviceCreateInfo info;
+  info.device_index = index;
+  auto device = std::make_unique<vk::Device>(info);
+  if (!quiet) std::cerr << "vkrecon: device " << device->name() << "\n";
+  return device;
+}
+
+int FinishWithDevice(const vk::Device& device, int status) {
+  const auto messages = device.validation_messages();
+  if (!messages.empty()) {
+    std::cerr << "vkrecon: error: the Vulkan validation layer reported " << messages.size()
+              << " message(s) (printed above)\n";
+    return 1;
+  }
+  return status;
+}
+
+}  // namespace vkr::app

@@ -1,0 +1,41 @@
+#include <iostream>
+
+#include "apps/Commands.h"
+#include "pipelines/ViewRendering.h"
+
+namespace vkr::app {
+
+int RunSynth(int argc, char** argv) {
+  CLI::App app(
+      "Render reference images of a textured scene at parameter values P (each node's "
+      "albedo texture, no lighting), one PNG per camera, plus the cameras.json they match.",
+      "synth");
+  SceneArgs scene;
+  SynthOptions options;
+  std::string at, out;
+  AddSceneArgs(app, scene);
+  app.add_option("--at", at, "parameter values, a JSON file {\"name\": value, ...}")->required();
+  app.add_option("-o,--output", out, "output folder")->required();
+  app.add_option("--noise", options.noise_sigma,
+                 "Gaussian noise sd on the 0-255 scale added to every channel (default 0)");
+  app.add_option("--seed", options.seed, "noise seed (default 1)");
+  app.add_option("--scale", options.scale,
+                 "image size factor; K scales with it (default 1, tests use 0.25)");
+  app.add_option("--atlas", options.atlas, "side of the albedo atlas in texels (default 2048)");
+  bool quiet = false;
+  app.add_flag("-q,--quiet", quiet, "print nothing but errors");
+  if (auto status = Parse(app, argc, argv)) return *status;
+
+  options.scene_file = scene.scene;
+  options.overrides = ParseOverrides(scene.sets);
+  options.at_file = at;
+  options.output_dir = out;
+  auto device = OpenDevice(scene.device, quiet);
+  const SynthSummary summary = SynthesiseImages(options, *device);
+  if (!quiet)
+    std::cerr << "vkrecon synth: wrote " << summary.images.size() << " images and "
+              << summary.cameras_file.string() << "\n";
+  return FinishWithDevice(*device, 0);
+}
+
+}  // namespace vkr::app

@@ -1,0 +1,65 @@
+// vkrecon: reconstruct 3D geometry from calibrated photographs by inverse rendering.
+// One binary, a table of subcommands (DESIGN.md, "Command line").
+
+#include <cstring>
+#include <iostream>
+#include <string>
+
+#include "apps/Commands.h"
+#include "engine/common/InputError.h"
+
+namespace {
+
+struct Subcommand {
+  const char* name;
+  int (*run)(int, char**);
+  const char* summary;
+};
+
+constexpr Subcommand kSubcommands[] = {
+    {"synth", vkr::app::RunSynth, "render reference images of a textured scene at given parameters"},
+    {"render", vkr::app::RunRender, "render novel views (linear float RGBA OpenEXR)"},
+    {"devices", vkr::app::RunDevices, "list Vulkan devices"},
+};
+
+void PrintUsage(std::ostream& out) {
+  out << "vkrecon — reconstruct 3D geometry from calibrated photographs by inverse rendering\n\n"
+         "usage: vkrecon <command> [options]   (vkrecon <command> --help for its options)\n\n"
+         "commands:\n";
+  for (const Subcommand& s : kSubcommands)
+    out << "  " << s.name << std::string(10 - std::strlen(s.name), ' ') << s.summary << "\n";
+  out << "\nexit status: 0 success, 2 bad input (one line naming file, field and problem), "
+         "1 other errors\n";
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc < 2) {
+    PrintUsage(std::cerr);
+    return 2;
+  }
+  const std::string command = argv[1];
+  if (command == "--help" || command == "-h" || command == "help") {
+    PrintUsage(std::cout);
+    return 0;
+  }
+  if (command == "--version") {
+    std::cout << "vkrecon 0.1.0\n";
+    return 0;
+  }
+  for (const Subcommand& s : kSubcommands) {
+    if (command != s.name) continue;
+    try {
+      return s.run(argc - 1, argv + 1);
+    } catch (const vkr::InputError& e) {
+      std::cerr << "vkrecon " << command << ": " << e.what() << "\n";
+      return 2;
+    } catch (const std::exception& e) {
+      std::cerr << "vkrecon " << command << ": error: " << e.what() << "\n";
+      return 1;
+    }
+  }
+  std::cerr << "vkrecon: unknown command '" << command << "' (try vkrecon --help)\n";
+  return 2;
+}

@@ -1,0 +1,15 @@
+#pragma once
+// Writes evaluated cameras as a `cameras.json` that LoadScene reads back (DESIGN.md,
+// "cameras": {"cameras": [{"name", "image", "width", "height", "K", "R", "t"}]}).
+
+#include <filesystem>
+#include <vector>
+
+#include "engine/scene/Scene.h"
+
+namespace vkr {
+
+// `image` of each camera is written relative to the file's folder when it lies inside it.
+void WriteCamerasJson(const std::filesystem::path& file, const std::vector<Camera>& cameras);
+
+}  // namespace vkr

@@ -1,0 +1,215 @@
+#include "pipelines/ViewRendering.h"
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+
+#include "engine/common/InputError.h"
+#include "engine/image/Image.h"
+#include "engine/scene/CameraWriter.h"
+#include "engine/vk/Commands.h"
+#include "pipelines/GpuScene.h"
+#include "pipelines/NovelViewPass.h"
+
+namespace fs = std::filesystem;
+
+namespace vkr {
+namespace {
+
+// Uploads an atlas image as a sampled RGBA32F texture.
+vk::GpuImage UploadAtlas(vk::Device& device, vk::Transfer& transfer, const Image& atlas) {
+  vk::GpuImage image(device, {uint32_t(atlas.width), uint32_t(atlas.height), 1,
+                              VK_FORMAT_R32G32B32A32_SFLOAT,
+                              VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT});
+  transfer.UploadImage(image, 0, atlas.rgba.data(), VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
+  return image;
+}
+
+// Everything needed to draw a scene once: geometry on the GPU, an atlas, the pass.
+struct SceneDrawer {
+  vk::Transfer transfer;
+  vk::CommandContext context;
+  GpuScene gpu_scene;
+  vk::GpuImage atlas;
+  NovelViewPass pass;
+
+  SceneDrawer(vk::Device& device, const SceneGeometry& geometry, const Image& atlas_image)
+      : transfer(device),
+        context(device),
+        gpu_scene(device, transfer, geometry),
+        atlas(UploadAtlas(device, transfer, atlas_image)),
+        pass(device, gpu_scene, atlas) {}
+};
+
+fs::path SynthImageName(const Camera& camera) {
+  fs::path name = camera.image.filename();
+  if (name.empty()) name = camera.name + ".png";
+  std::string ext = name.extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), ::tolower);
+  if (ext != ".png") name.replace_extension(".png");  // synth writes lossless 8-bit images
+  return name;
+}
+
+}  // namespace
+
+Camera ScaleCamera(const Camera& camera, double scale) {
+  if (scale == 1.0) return camera;
+  Camera out = camera;
+  out.width = std::max(1, int(std::lround(camera.width * scale)));
+  out.height = std::max(1, int(std::lround(camera.height * scale)));
+  const double sx = double(out.width) / camera.width, sy = double(out.height) / camera.height;
+  out.K.row(0) *= sx;
+  out.K.row(1) *= sy;
+  return out;
+}
+
+SynthSummary SynthesiseImages(const SynthOptions& options, vk::Device& device) {
+  if (!(options.scale > 0.0 && options.scale <= 16.0))
+    throw InputError("", "--scale", "must be in (0, 16]");
+  if (!(options.noise_sigma >= 0.0)) throw InputError("", "--noise", "must be ≥ 0");
+  LoadOptions load;
+  load.require_images = false;  // synth is what makes them
+  const Scene scene = LoadScene(options.scene_file, options.overrides, load);
+  const std::vector<double> psi = scene.ValuesFromFile(options.at_file);
+
+  const SceneGeometry geometry = BuildSceneGeometry(scene, scene.InitialValues(), options.atlas);
+  const Image atlas = BakeAlbedoAtlas(geometry.atlas, geometry.meshes, LoadAlbedos(scene));
+  SceneDrawer drawer(device, geometry, atlas);
+  drawer.gpu_scene.SetNodeMatrices(0, scene.WorldFromNode(psi));
+
+  fs::create_directories(options.output_dir);
+  std::mt19937_64 rng(options.seed);
+  std::normal_distribution<double> noise(0.0, options.noise_sigma / 255.0);
+  SynthSummary summary;
+  std::vector<Camera> written;
+  for (const Camera& scene_camera : scene.Cameras(psi)) {
+    Camera camera = ScaleCamera(scene_camera, options.scale);
+    Image image = drawer.pass.Render(drawer.transfer, drawer.context, camera);
+    for (size_t i = 0; i < image.rgba.size(); i += 4) {
+      for (int c = 0; c < 3; ++c) {
+        double v = image.rgba[i + c];
+        if (options.noise_sigma > 0.0) v += noise(rng);
+        image.rgba[i + c] = float(std::clamp(v, 0.0, 1.0));
+      }
+      image.rgba[i + 3] = 1.0f;  // photographs are opaque; the background stays black
+    }
+    camera.image = options.output_dir / SynthImageName(camera);
+    WritePng(camera.image, image);
+    summary.images.push_back(camera.image);
+    written.push_back(camera);
+  }
+  summary.cameras_file = options.output_dir / "cameras.json";
+  WriteCamerasJson(summary.cameras_file, written);
+  return summary;
+}
+
+std::vector<Camera> OrbitCameras(const Scene& scene, const std::vector<double>& psi,
+                                 const SceneGeometry& geometry, int n) {
+  const std::vector<Camera> cameras = scene.Cameras(psi);
+  if (cameras.empty()) throw InputError(scene.file.string(), "cameras", "--orbit needs at least one camera for its intrinsics");
+  const std::vector<Eigen::Matrix4d> world_from_node = scene.WorldFromNode(psi);
+  // Bounding box of the objects; the ground plane would pull the centre to its middle.
+  Eigen::AlignedBox3d box, everything;
+  for (size_t node = 0; node < geometry.meshes.size(); ++node)
+    for (const Eigen::Vector3f& p : geometry.meshes[node].positions) {
+      const Eigen::Vector3d w = (world_from_node[node] * p.cast<double>().homogeneous()).head<3>();
+      everything.extend(w);
+      if (scene.nodes[node].primitive != PrimitiveKind::Plane) box.extend(w);
+    }
+  if (box.isEmpty()) box = everything;
+  const Eigen::Vector3d centre = box.isEmpty() ? Eigen::Vector3d(Eigen::Vector3d::Zero()) : Eigen::Vector3d(box.center());
+  double radius = 0.0, height = 0.0;
+  for (const Camera& c : cameras) {
+    const Eigen::Vector3d d = c.Centre() - centre;
+    radius += d.head<2>().norm() / cameras.size();
+    height += d.z() / cameras.size();
+  }
+  if (radius < 1e-6) radius = std::max(1.0, 2.0 * box.sizes().norm());
+  std::vector<Camera> out;
+  for (int k = 0; k < n; ++k) {
+    const double a = 2.0 * M_PI * k / n;
+    const Eigen::Vector3d eye = centre + Eigen::Vector3d(radius * std::cos(a), radius * std::sin(a), height);
+    // OpenCV camera axes: z forward, x right, y down.
+    const Eigen::Vector3d z = (centre - eye).normalized();
+    Eigen::Vector3d x = z.cross(Eigen::Vector3d::UnitZ());
+    if (x.norm() < 1e-6) x = Eigen::Vector3d::UnitX();
+    x.normalize();
+    const Eigen::Vector3d y = z.cross(x);
+    Camera c = cameras.front();
+    c.name = "orbit_" + std::to_string(k);
+    c.image.clear();
+    Eigen::Matrix3d R;
+    R.row(0) = x;
+    R.row(1) = y;
+    R.row(2) = z;
+    c.cam_from_world.setIdentity();
+    c.cam_from_world.topLeftCorner<3, 3>() = R;
+    c.cam_from_world.topRightCorner<3, 1>() = -R * eye;
+    out.push_back(c);
+  }
+  return out;
+}
+
+std::vector<fs::path> RenderViews(const RenderOptions& options, vk::Device& device) {
+  if (options.orbit < 0) throw InputError("", "--orbit", "must be ≥ 0");
+  LoadOptions load;
+  load.require_images = false;  // novel views need no photographs
+  const Scene scene = LoadScene(options.scene_file, options.overrides, load);
+  const std::vector<double> psi =
+      options.at_file ? scene.ValuesFromFile(*options.at_file) : scene.InitialValues();
+
+  Image atlas;
+  int atlas_size = options.atlas;
+  if (options.texture) {
+    atlas = LoadImage(*options.texture);
+    if (atlas.width != atlas.height)
+      throw InputError(options.texture->string(), "", "an atlas texture must be square, this one is " +
+                       std::to_string(atlas.width) + "×" + std::to_string(atlas.height));
+    atlas_size = atlas.width;
+  }
+  // The same layout as the run that made the texture: decided at the initial values.
+  const SceneGeometry geometry = BuildSceneGeometry(scene, scene.InitialValues(), atlas_size);
+  if (!options.texture) atlas = BakeAlbedoAtlas(geometry.atlas, geometry.meshes, LoadAlbedos(scene));
+
+  std::vector<Camera> views;
+  if (options.orbit > 0) {
+    views = OrbitCameras(scene, psi, geometry, options.orbit);
+  } else {
+    const std::vector<Camera> all = scene.Cameras(psi);
+    if (options.cameras.empty()) views = all;
+    for (const std::string& name : options.cameras) {
+      auto it = std::find_if(all.begin(), all.end(), [&](const Camera& c) { return c.name == name; });
+      if (it == all.end()) throw InputError(scene.file.string(), "cameras", "no camera named '" + name + "' (--camera)");
+      views.push_back(*it);
+    }
+  }
+  for (Camera& c : views) c = ScaleCamera(c, options.scale);
+
+  SceneDrawer drawer(device, geometry, atlas);
+  drawer.gpu_scene.SetNodeMatrices(0, scene.WorldFromNode(psi));
+
+  // One view to a .exr path writes exactly there; otherwise a file per view.
+  const bool single_file = views.size() == 1 && options.output.extension() == ".exr";
+  fs::path folder = single_file ? options.output.parent_path() : options.output;
+  std::string prefix;
+  if (!single_file && options.output.extension() == ".exr") {
+    folder = options.output.parent_path();
+    prefix = options.output.stem().string() + "_";
+  }
+  if (!folder.empty()) fs::create_directories(folder);
+  std::vector<fs::path> written;
+  for (const Camera& camera : views) {
+    const Image image = drawer.pass.Render(drawer.transfer, drawer.context, camera);
+    const fs::path file = single_file ? options.output : folder / (prefix + camera.name + ".exr");
+    WriteExr(file, image);
+    written.push_back(file);
+    if (options.png) {
+      fs::path png = file;
+      WritePng(png.replace_extension(".png"), image);
+      written.push_back(png);
+    }
+  }
+  return written;
+}
+
+}  // namespace vkr

@@ -1,0 +1,61 @@
+#pragma once
+// `vkrecon synth` and `vkrecon render` as typed functions the command line and the tests
+// both call: a scene at parameters Ψ, drawn with the novel-view pass.
+
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "engine/geometry/SceneGeometry.h"
+#include "engine/scene/Scene.h"
+#include "engine/vk/Device.h"
+
+namespace vkr {
+
+struct SynthOptions {
+  std::filesystem::path scene_file;
+  std::vector<SceneOverride> overrides;
+  std::filesystem::path at_file;     // parameter values ({"name": value})
+  std::filesystem::path output_dir;  // receives one PNG per camera and cameras.json
+  double noise_sigma = 0.0;          // Gaussian noise sd on the 0–255 scale (§4.5.1)
+  uint64_t seed = 1;                 // noise seed
+  double scale = 1.0;                // image size factor (K scales with it); tests use small images
+  int atlas = 2048;                  // albedo atlas side: sharper than a run's, it is the "truth"
+};
+
+struct SynthSummary {
+  std::vector<std::filesystem::path> images;
+  std::filesystem::path cameras_file;
+};
+
+SynthSummary SynthesiseImages(const SynthOptions& options, vk::Device& device);
+
+struct RenderOptions {
+  std::filesystem::path scene_file;
+  std::vector<SceneOverride> overrides;
+  std::optional<std::filesystem::path> at_file;  // default: the scene's initial values
+  // An atlas texture (composite.exr of a run). Without one the albedo textures are baked
+  // into an atlas of side `atlas`.
+  std::optional<std::filesystem::path> texture;
+  int atlas = 2048;
+  std::vector<std::string> cameras;  // scene camera names; empty: all (unless orbit)
+  int orbit = 0;                     // > 0: a ring of this many views around the scene
+  double scale = 1.0;                // image size factor
+  std::filesystem::path output;      // VIEW.exr, or a folder
+  bool png = false;                  // also write PNG previews
+};
+
+std::vector<std::filesystem::path> RenderViews(const RenderOptions& options, vk::Device& device);
+
+// `n` cameras on a horizontal ring around the scene's objects, with the intrinsics of the
+// first scene camera, at the scene cameras' mean distance and height, all looking at the
+// centre of the bounding box of the non-plane geometry.
+std::vector<Camera> OrbitCameras(const Scene& scene, const std::vector<double>& psi,
+                                 const SceneGeometry& geometry, int n);
+
+// A camera scaled to another image size: K' = diag(sx, sy, 1)·K under the [0,W] convention.
+Camera ScaleCamera(const Camera& camera, double scale);
+
+}  // namespace vkr
