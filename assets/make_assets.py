@@ -1,0 +1,223 @@
+#!/usr/bin/env python3
+"""Writes the bundled example scenes: scene.json, truth.json, cameras.json and albedo
+textures for `box`, `house`, `stairs` and `poster` (after the thesis's experiments).
+
+Reference images are NOT written here: `vkrecon synth` makes them from truth.json, so they
+never drift from the renderer. Only the Python standard library is used; the output is
+deterministic, so re-running it changes nothing unless this script changed.
+
+    python3 assets/make_assets.py          # rewrites assets/*/
+"""
+import json
+import math
+import os
+import random
+import struct
+import zlib
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+
+
+# ---------------------------------------------------------------- textures (PNG, RGB 8-bit)
+def write_png(path, width, height, pixels):
+    """pixels: list of rows, each a list of (r, g, b) in 0..255."""
+    raw = b"".join(b"\x00" + bytes(c for px in row for c in px) for row in pixels)
+
+    def chunk(tag, data):
+        return struct.pack(">I", len(data)) + tag + data + struct.pack(">I", zlib.crc32(tag + data) & 0xFFFFFFFF)
+
+    png = b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", width, height, 8, 2, 0, 0, 0))
+    png += chunk(b"IDAT", zlib.compress(raw, 9)) + chunk(b"IEND", b"")
+    with open(path, "wb") as f:
+        f.write(png)
+
+
+def value_noise(size, seed, octaves=5):
+    """Tileable multi-octave value noise in [0,1]: texture at every scale, so the
+    photo-consistency likelihood has something to lock onto at every pyramid level."""
+    rng = random.Random(seed)
+    out = [[0.0] * size for _ in range(size)]
+    total = 0.0
+    for o in range(octaves):
+        cells = 4 << o
+        grid = [[rng.random() for _ in range(cells)] for _ in range(cells)]
+        amp = 0.6 ** o
+        total += amp
+        for y in range(size):
+            fy = y * cells / size
+            y0 = int(fy)
+            ty = fy - y0
+            ty = ty * ty * (3 - 2 * ty)
+            for x in range(size):
+                fx = x * cells / size
+                x0 = int(fx)
+                tx = fx - x0
+                tx = tx * tx * (3 - 2 * tx)
+                a = grid[y0 % cells][x0 % cells]
+                b = grid[y0 % cells][(x0 + 1) % cells]
+                c = grid[(y0 + 1) % cells][x0 % cells]
+                d = grid[(y0 + 1) % cells][(x0 + 1) % cells]
+                out[y][x] += amp * ((a * (1 - tx) + b * tx) * (1 - ty) + (c * (1 - tx) + d * tx) * ty)
+    return [[v / total for v in row] for row in out]
+
+
+def texture(path, seed, base, contrast=0.9, size=128):
+    """A noise texture tinted around colour `base` (0..1 RGB)."""
+    n = value_noise(size, seed)
+    m = value_noise(size, seed + 1000, octaves=3)
+    rows = []
+    for y in range(size):
+        row = []
+        for x in range(size):
+            v = (n[y][x] - 0.5) * 2.0 * contrast
+            w = (m[y][x] - 0.5) * 0.5
+            r = base[0] * (1 + v) + w * 0.3
+            g = base[1] * (1 + v) - w * 0.2
+            b = base[2] * (1 + v * 0.8) + w * 0.1
+            row.append(tuple(max(0, min(255, int(round(255 * c)))) for c in (r, g, b)))
+        rows.append(row)
+    write_png(path, size, size, rows)
+
+
+def poster_texture(path, size=128):
+    """Bold stripes and blocks, like printed graphics, on top of fine noise."""
+    n = value_noise(size, 77)
+    rows = []
+    for y in range(size):
+        row = []
+        for x in range(size):
+            band = (x // 16 + y // 24) % 3
+            base = [(0.85, 0.2, 0.15), (0.95, 0.85, 0.3), (0.15, 0.3, 0.7)][band]
+            v = 0.7 + 0.6 * (n[y][x] - 0.5)
+            row.append(tuple(max(0, min(255, int(round(255 * c * v)))) for c in base))
+        rows.append(row)
+    write_png(path, size, size, rows)
+
+
+# ---------------------------------------------------------------- cameras
+def look_at(eye, target, name, image, width=640, height=480, f=560.0):
+    """An OpenCV camera (x right, y down, z forward) at `eye` looking at `target`."""
+    z = [t - e for t, e in zip(target, eye)]
+    zn = math.sqrt(sum(c * c for c in z))
+    z = [c / zn for c in z]
+    x = [z[1] * 1 - z[2] * 0, z[2] * 0 - z[0] * 1, 0.0]  # z × up(0,0,1)
+    xn = math.sqrt(sum(c * c for c in x))
+    x = [c / xn for c in x]
+    y = [z[1] * x[2] - z[2] * x[1], z[2] * x[0] - z[0] * x[2], z[0] * x[1] - z[1] * x[0]]
+    R = [x, y, z]
+    t = [-sum(R[r][c] * eye[c] for c in range(3)) for r in range(3)]
+    K = [[f, 0.0, width / 2], [0.0, f, height / 2], [0.0, 0.0, 1.0]]
+    rnd = lambda v: round(v, 12)
+    return {"name": name, "image": image, "width": width, "height": height,
+            "K": [[rnd(v) for v in row] for row in K],
+            "R": [[rnd(v) for v in row] for row in R], "t": [rnd(v) for v in t]}
+
+
+def ring(n, radius, height, target, start_deg=0.0, span_deg=360.0, jitter=0.0, seed=0):
+    rng = random.Random(seed)
+    cams = []
+    for i in range(n):
+        a = math.radians(start_deg + span_deg * (i + 0.5) / n) if span_deg < 360 else math.radians(start_deg + 360.0 * i / n)
+        r = radius * (1 + jitter * (rng.random() - 0.5))
+        h = height * (1 + jitter * (rng.random() - 0.5))
+        eye = [target[0] + r * math.cos(a), target[1] + r * math.sin(a), h]
+        cams.append(look_at(eye, target, "cam%d" % i, "cam%d.png" % i))
+    return cams
+
+
+# ---------------------------------------------------------------- scenes
+def uniform(lo, hi):
+    return {"prior": {"uniform": [lo, hi]}}
+
+
+GROUND = {"name": "ground", "primitive": "plane", "transforms": [{"scale": [5, 5, 1]}],
+          "albedo": "textures/ground.png"}
+
+
+def write_asset(name, scene, truth, cameras, textures):
+    folder = os.path.join(HERE, name)
+    os.makedirs(os.path.join(folder, "textures"), exist_ok=True)
+    for file, make in textures.items():
+        make(os.path.join(folder, "textures", file))
+    full = {"version": 1, "images": "images/", "cameras": "cameras.json"}
+    full.update(scene)
+    with open(os.path.join(folder, "scene.json"), "w") as f:
+        json.dump(full, f, indent=2)
+        f.write("\n")
+    with open(os.path.join(folder, "truth.json"), "w") as f:
+        json.dump(truth, f, indent=2)
+        f.write("\n")
+    with open(os.path.join(folder, "cameras.json"), "w") as f:
+        json.dump({"cameras": cameras}, f, indent=2)
+        f.write("\n")
+
+
+def main():
+    ground_tex = {"ground.png": lambda p: texture(p, 1, (0.45, 0.42, 0.35))}
+
+    # box: a box on a ground plane, 9 cameras (thesis §7, Figs 7.12–7.14).
+    write_asset("box", {
+        "parameters": {"x": uniform(-0.5, 0.5), "y": uniform(-0.5, 0.5), "yaw": uniform(-45, 45),
+                       "w": uniform(0.3, 1.5), "d": uniform(0.3, 1.5), "h": uniform(0.2, 1.0)},
+        "nodes": [GROUND,
+                  {"name": "box", "primitive": "box", "albedo": "textures/box.png",
+                   "transforms": [{"translate": ["x", "y", 0]}, {"rotate": [0, 0, "yaw"]},
+                                  {"scale": ["w", "d", "h"]}]}],
+        "likelihood": {"kind": "surface", "sigma": 8.0, "weights": "angle", "atlas": 512, "levels": 3},
+        "sampler": {"iterations": 2000, "chains": 4, "batch": 16, "seed": 1},
+    }, {"x": 0.12, "y": -0.08, "yaw": 17.0, "w": 0.8, "d": 0.6, "h": 0.5},
+        ring(9, 3.0, 1.8, [0.0, 0.0, 0.3], jitter=0.15, seed=2),
+        dict(ground_tex, **{"box.png": lambda p: texture(p, 2, (0.7, 0.35, 0.25))}))
+
+    # house: box walls + prism roof, 7 cameras (the DESIGN.md example scene).
+    write_asset("house", {
+        "parameters": {"x": uniform(-0.5, 0.5), "y": uniform(-0.5, 0.5), "yaw": uniform(-45, 45),
+                       "w": uniform(0.3, 1.5), "d": uniform(0.3, 1.5), "h": uniform(0.2, 1.0),
+                       "rh": uniform(0.05, 0.6)},
+        "nodes": [GROUND,
+                  {"name": "walls", "primitive": "box", "albedo": "textures/walls.png",
+                   "transforms": [{"translate": ["x", "y", 0]}, {"rotate": [0, 0, "yaw"]},
+                                  {"scale": ["w", "d", "h"]}]},
+                  {"name": "roof", "parent": "walls", "primitive": "prism", "albedo": "textures/roof.png",
+                   "transforms": [{"translate": [0, 0, 1]}, {"scale": [1, 1, "rh/h"]}]}],
+        "likelihood": {"kind": "surface", "sigma": 8.0, "weights": "angle", "atlas": 512, "levels": 3},
+        "sampler": {"iterations": 2000, "chains": 4, "batch": 16, "seed": 1},
+    }, {"x": 0.1, "y": 0.05, "yaw": -12.0, "w": 1.1, "d": 0.8, "h": 0.6, "rh": 0.35},
+        ring(7, 3.5, 2.2, [0.0, 0.0, 0.4], jitter=0.15, seed=3),
+        dict(ground_tex, **{"walls.png": lambda p: texture(p, 3, (0.8, 0.75, 0.6)),
+                            "roof.png": lambda p: texture(p, 4, (0.55, 0.2, 0.15))}))
+
+    # stairs: 4 steps sharing rise, run and width; 6 cameras in front of the risers.
+    steps = [{"name": "step%d" % k, "parent": "stairs", "primitive": "box",
+              "albedo": "textures/steps.png",
+              "transforms": [{"translate": [0, "%g*run" % (k + 0.5), 0]},
+                             {"scale": ["width", "run", "rise" if k == 0 else "%d*rise" % (k + 1)]}]}
+             for k in range(4)]
+    write_asset("stairs", {
+        "parameters": {"x": uniform(-0.4, 0.4), "y": uniform(-0.4, 0.4), "yaw": uniform(-30, 30),
+                       "width": uniform(0.5, 1.5), "run": uniform(0.15, 0.45), "rise": uniform(0.1, 0.3)},
+        "nodes": [GROUND,
+                  {"name": "stairs", "transforms": [{"translate": ["x", "y", 0]}, {"rotate": [0, 0, "yaw"]}]}]
+                 + steps,
+        "likelihood": {"kind": "surface", "sigma": 8.0, "weights": "angle", "atlas": 512, "levels": 3},
+        "sampler": {"iterations": 2000, "chains": 4, "batch": 16, "seed": 1},
+    }, {"x": 0.05, "y": -0.1, "yaw": 8.0, "width": 1.0, "run": 0.28, "rise": 0.18},
+        ring(6, 3.0, 1.9, [0.0, 0.4, 0.3], start_deg=200, span_deg=140, jitter=0.1, seed=4),
+        dict(ground_tex, **{"steps.png": lambda p: texture(p, 5, (0.6, 0.6, 0.62))}))
+
+    # poster: a cylinder carrying a poster, 6 cameras.
+    write_asset("poster", {
+        "parameters": {"x": uniform(-0.4, 0.4), "y": uniform(-0.4, 0.4),
+                       "diameter": uniform(0.2, 0.9), "height": uniform(0.6, 2.0)},
+        "nodes": [GROUND,
+                  {"name": "column", "primitive": "cylinder", "albedo": "textures/poster.png",
+                   "transforms": [{"translate": ["x", "y", 0]}, {"scale": ["diameter", "diameter", "height"]}]}],
+        "likelihood": {"kind": "surface", "sigma": 8.0, "weights": "angle", "atlas": 512, "levels": 3},
+        "sampler": {"iterations": 2000, "chains": 4, "batch": 16, "seed": 1},
+    }, {"x": -0.05, "y": 0.1, "diameter": 0.5, "height": 1.2},
+        ring(6, 3.0, 1.7, [0.0, 0.0, 0.6], jitter=0.15, seed=5),
+        dict(ground_tex, **{"poster.png": poster_texture}))
+
+
+if __name__ == "__main__":
+    main()

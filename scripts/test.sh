@@ -1,0 +1,10 @@
+#!/usr/bin/env bash
+# Installs what is missing, builds, and runs every test with the Vulkan validation layer on
+# (a validation message fails the test). Usage: scripts/test.sh [ctest arguments…]
+set -euo pipefail
+cd "$(dirname "$0")/.."
+scripts/bootstrap.sh
+scripts/build.sh
+BUILD_DIR=${VKRECON_BUILD_DIR:-build}
+export VKRECON_VALIDATION=1
+ctest --test-dir "$BUILD_DIR" --output-on-failure -j "$(nproc)" "$@"
