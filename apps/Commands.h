@@ -31,8 +31,9 @@ struct SceneArgs {
 void AddSceneArgs(CLI::App& app, SceneArgs& args);
 std::vector<SceneOverride> ParseOverrides(const std::vector<std::string>& sets);
 
-// Opens the Vulkan device (--device / VKRECON_DEVICE); says which on stderr unless quiet.
-std::unique_ptr<vk::Device> OpenDevice(int index, bool quiet = false);
+// Opens the Vulkan device (--device / VKRECON_DEVICE). Commands name it in their summary
+// line rather than up front, so a bad-input error stays the only line on stderr.
+std::unique_ptr<vk::Device> OpenDevice(int index);
 // Fails (exit 1) when the validation layer reported anything during the command.
 int FinishWithDevice(const vk::Device& device, int status);
 

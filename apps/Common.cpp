@@ -39,12 +39,10 @@ std::vector<SceneOverride> ParseOverrides(const std::vector<std::string>& sets) 
   return out;
 }
 
-std::unique_ptr<vk::Device> OpenDevice(int index, bool quiet) {
+std::unique_ptr<vk::Device> OpenDevice(int index) {
   vk::DeviceCreateInfo info;
   info.device_index = index;
-  auto device = std::make_unique<vk::Device>(info);
-  if (!quiet) std::cerr << "vkrecon: device " << device->name() << "\n";
-  return device;
+  return std::make_unique<vk::Device>(info);
 }
 
 int FinishWithDevice(const vk::Device& device, int status) {

@@ -34,10 +34,12 @@ int RunRender(int argc, char** argv) {
   if (!at.empty()) options.at_file = at;
   if (!texture.empty()) options.texture = texture;
   options.output = out;
-  auto device = OpenDevice(scene.device, quiet);
+  auto device = OpenDevice(scene.device);
   const auto files = RenderViews(options, *device);
-  if (!quiet)
+  if (!quiet) {
     for (const auto& f : files) std::cerr << "vkrecon render: wrote " << f.string() << "\n";
+    std::cerr << "vkrecon render: " << files.size() << " files (" << device->name() << ")\n";
+  }
   return FinishWithDevice(*device, 0);
 }
 

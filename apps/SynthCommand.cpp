@@ -30,11 +30,11 @@ int RunSynth(int argc, char** argv) {
   options.overrides = ParseOverrides(scene.sets);
   options.at_file = at;
   options.output_dir = out;
-  auto device = OpenDevice(scene.device, quiet);
+  auto device = OpenDevice(scene.device);
   const SynthSummary summary = SynthesiseImages(options, *device);
   if (!quiet)
     std::cerr << "vkrecon synth: wrote " << summary.images.size() << " images and "
-              << summary.cameras_file.string() << "\n";
+              << summary.cameras_file.string() << " (" << device->name() << ")\n";
   return FinishWithDevice(*device, 0);
 }
 

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <random>
 
 #include "engine/common/InputError.h"
@@ -136,7 +137,9 @@ std::vector<Camera> OrbitCameras(const Scene& scene, const std::vector<double>& 
     x.normalize();
     const Eigen::Vector3d y = z.cross(x);
     Camera c = cameras.front();
-    c.name = "orbit_" + std::to_string(k);
+    char name[16];
+    std::snprintf(name, sizeof name, "%03d", k);
+    c.name = name;
     c.image.clear();
     Eigen::Matrix3d R;
     R.row(0) = x;
