@@ -45,6 +45,8 @@ void WriteImage(const std::filesystem::path& file, const Image& image);
 // Bilinear sample at continuous pixel coordinates (pixel centres at +0.5), clamped to edge.
 void SampleBilinear(const Image& image, double x, double y, float out[4]);
 // Same with texture coordinates in [0,1]², repeating (for albedo textures).
+// u runs left to right and v top to bottom (v = 0 is the first row), as in glTF; texel
+// centres sit at ((i+0.5)/width, (j+0.5)/height).
 void SampleRepeat(const Image& image, double u, double v, float out[4]);
 
 }  // namespace vkr

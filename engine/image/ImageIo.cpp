@@ -1,0 +1,198 @@
+// Image files: open, sniff the format from the magic bytes (never trust the extension on
+// input: a ".png" that is really a JPEG loads fine, a ".png" that is HTML fails clearly),
+// and dispatch to OpenEXR, the PGM/PPM reader or stb_image. Every failure of a file
+// becomes an InputError naming it (DESIGN.md: bad input never crashes).
+
+#include <stb/stb_image.h>
+#include <stb/stb_image_write.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cerrno>
+#include <climits>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "engine/common/InputError.h"
+#include "engine/image/Image.h"
+#include "engine/image/ImageFormats.h"
+
+namespace vkr::image_detail {
+
+void Fail(const std::filesystem::path& file, const std::string& problem) {
+  throw InputError(file.string(), "", problem);
+}
+
+}  // namespace vkr::image_detail
+
+namespace vkr {
+namespace {
+
+using image_detail::Fail;
+using FilePtr = std::unique_ptr<FILE, int (*)(FILE*)>;
+
+// Enough for any PGM/PPM header; EXR and stb formats re-read the file themselves.
+constexpr size_t kHeadBytes = 64 * 1024;
+
+FilePtr OpenForReading(const std::filesystem::path& file) {
+  // fopen() happily opens a directory on Linux and the first read fails with EISDIR;
+  // saying so up front reads better than a decoder's complaint.
+  std::error_code ec;
+  if (std::filesystem::is_directory(file, ec)) Fail(file, "cannot open: is a directory");
+  FILE* f = std::fopen(file.c_str(), "rb");
+  if (!f) Fail(file, std::string("cannot open: ") + std::strerror(errno));
+  return FilePtr(f, &std::fclose);
+}
+
+// Reads up to `limit` more bytes (the rest of the file by default).
+std::vector<uint8_t> ReadBytes(const std::filesystem::path& file, FILE* f,
+                               size_t limit = SIZE_MAX) {
+  std::vector<uint8_t> bytes;
+  uint8_t chunk[64 * 1024];
+  while (bytes.size() < limit) {
+    const size_t want = std::min(sizeof(chunk), limit - bytes.size());
+    const size_t got = std::fread(chunk, 1, want, f);
+    bytes.insert(bytes.end(), chunk, chunk + got);
+    if (got < want) {
+      if (std::ferror(f)) Fail(file, std::string("cannot read: ") + std::strerror(errno));
+      break;  // end of file
+    }
+  }
+  return bytes;
+}
+
+[[noreturn]] void FailStb(const std::filesystem::path& file) {
+  const char* reason = stbi_failure_reason();
+  Fail(file, std::string("not a PNG/JPEG/PGM/PPM/EXR image (stb: ") +
+                 (reason ? reason : "unknown error") + ")");
+}
+
+// PNG, JPEG and the other formats stb_image knows. Four channels are requested so stb
+// expands grey to RGB and adds alpha 1 (opaque) where the file has none.
+Image DecodeWithStb(const std::filesystem::path& file, const std::vector<uint8_t>& bytes) {
+  if (bytes.size() > size_t(INT_MAX)) Fail(file, "file is too large for stb_image (> 2 GiB)");
+  const int len = int(bytes.size());
+  int w = 0, h = 0, channels_in_file = 0;
+  Image image;
+  // 16-bit PNGs keep their precision; stbi_load would round them to 8 bits.
+  if (stbi_is_16_bit_from_memory(bytes.data(), len)) {
+    std::unique_ptr<uint16_t, void (*)(void*)> data(
+        stbi_load_16_from_memory(bytes.data(), len, &w, &h, &channels_in_file, 4),
+        &stbi_image_free);
+    if (!data) FailStb(file);
+    image = Image(w, h);
+    for (size_t i = 0; i < image.rgba.size(); ++i) image.rgba[i] = data.get()[i] / 65535.0f;
+  } else {
+    std::unique_ptr<uint8_t, void (*)(void*)> data(
+        stbi_load_from_memory(bytes.data(), len, &w, &h, &channels_in_file, 4), &stbi_image_free);
+    if (!data) FailStb(file);
+    image = Image(w, h);
+    for (size_t i = 0; i < image.rgba.size(); ++i) image.rgba[i] = data.get()[i] / 255.0f;
+  }
+  return image;
+}
+
+// The 8-bit code of an encoded value: clamped, rounded to nearest; NaN becomes 0.
+uint8_t ToByte(float v) {
+  const float c = v > 0.0f ? (v < 1.0f ? v : 1.0f) : 0.0f;
+  return uint8_t(std::lround(c * 255.0f));
+}
+
+struct PngSink {
+  FILE* f;
+  bool failed = false;
+  int error = 0;
+};
+
+void WriteToFile(void* context, void* data, int size) {
+  auto* sink = static_cast<PngSink*>(context);
+  if (sink->failed || size <= 0) return;
+  if (std::fwrite(data, 1, size_t(size), sink->f) != size_t(size)) {
+    sink->failed = true;
+    sink->error = errno;
+  }
+}
+
+void CheckImage(const Image& image, const char* who) {
+  if (image.Empty() || image.rgba.size() != size_t(image.width) * image.height * 4)
+    throw std::invalid_argument(std::string(who) +
+                                ": image is empty or its pixel buffer has the wrong size");
+}
+
+}  // namespace
+
+Image LoadImage(const std::filesystem::path& file) {
+  FilePtr f = OpenForReading(file);
+  // EXR goes through OpenEXR's own file reader, so only its magic is read here.
+  std::vector<uint8_t> head = ReadBytes(file, f.get(), 4);
+  if (head.empty()) Fail(file, "file is empty");
+  if (image_detail::IsExr(head)) {
+    f.reset();
+    return image_detail::LoadExr(file);
+  }
+  std::vector<uint8_t> rest = ReadBytes(file, f.get());
+  head.insert(head.end(), rest.begin(), rest.end());
+  if (image_detail::IsPnm(head)) return image_detail::DecodePnm(file, head);
+  return DecodeWithStb(file, head);
+}
+
+void ReadImageSize(const std::filesystem::path& file, int* width, int* height) {
+  FilePtr f = OpenForReading(file);
+  const std::vector<uint8_t> head = ReadBytes(file, f.get(), kHeadBytes);
+  if (head.empty()) Fail(file, "file is empty");
+  if (image_detail::IsExr(head)) {
+    f.reset();
+    image_detail::ReadExrSize(file, width, height);
+    return;
+  }
+  if (image_detail::IsPnm(head)) {
+    image_detail::ReadPnmSize(file, head, width, height);
+    return;
+  }
+  // stb reads only as far as the size: the IHDR chunk of a PNG, the SOF marker of a JPEG.
+  std::rewind(f.get());
+  int comp = 0;
+  if (!stbi_info_from_file(f.get(), width, height, &comp)) FailStb(file);
+}
+
+void WritePng(const std::filesystem::path& file, const Image& image) {
+  CheckImage(image, "WritePng");
+  std::vector<uint8_t> bytes(image.rgba.size());
+  std::transform(image.rgba.begin(), image.rgba.end(), bytes.begin(), ToByte);
+
+  // We open the file ourselves rather than call stbi_write_png(path): stb reports only
+  // "failed", and a user with a mistyped output folder deserves the errno text.
+  FILE* f = std::fopen(file.c_str(), "wb");
+  if (!f) Fail(file, std::string("cannot write: ") + std::strerror(errno));
+  PngSink sink{f};
+  const int ok = stbi_write_png_to_func(&WriteToFile, &sink, image.width, image.height, 4,
+                                        bytes.data(), image.width * 4);
+  if (!sink.failed && std::fflush(f) != 0) {
+    sink.failed = true;
+    sink.error = errno;
+  }
+  const bool close_failed = std::fclose(f) != 0;
+  if (!ok || sink.failed || close_failed) {
+    const int error = sink.failed ? sink.error : errno;
+    std::error_code ec;
+    std::filesystem::remove(file, ec);  // no half-written PNG left behind to confuse a reader
+    Fail(file, !ok ? std::string("PNG encoding failed")
+                   : std::string("cannot write: ") + std::strerror(error));
+  }
+}
+
+void WriteImage(const std::filesystem::path& file, const Image& image) {
+  std::string ext = file.extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return char(std::tolower(c)); });
+  if (ext == ".png") return WritePng(file, image);
+  if (ext == ".exr") return WriteExr(file, image);
+  Fail(file, "cannot write an image with extension '" + ext + "' (use .png or .exr)");
+}
+
+}  // namespace vkr

@@ -1,0 +1,72 @@
+// Gaussian pyramid: separable blur + 2× decimation, aligned with the S·K convention of
+// Pyramid.h.
+
+#include "engine/image/Pyramid.h"
+
+#include <stdexcept>
+
+namespace vkr {
+namespace {
+
+// Binomial weights ≈ a Gaussian of σ = sqrt(5)/2 ≈ 1.12 fine texels. The taps sit at fine
+// texels 2i-2 … 2i+3; their centre of mass is texel index 2i+0.5, i.e. coordinate 2i+1 in
+// the [0,W] convention, which is coarse coordinate i+0.5 — the centre of coarse texel i.
+// The weights sum to exactly 1, so a constant image stays constant (to float rounding).
+constexpr float kTaps[6] = {1 / 32.f, 5 / 32.f, 10 / 32.f, 10 / 32.f, 5 / 32.f, 1 / 32.f};
+constexpr int kFirstTap = -2;  // offset of kTaps[0] from 2i
+
+int Clamp(int v, int hi) { return v < 0 ? 0 : (v > hi ? hi : v); }
+
+}  // namespace
+
+int PyramidLevelSize(int n, int level) {
+  if (n <= 0) return 0;
+  for (int l = 0; l < level && n > 1; ++l) n = (n + 1) / 2;
+  return n;
+}
+
+Image Downsample2x(const Image& fine) {
+  if (fine.Empty()) throw std::invalid_argument("Downsample2x: empty image");
+  const int w = PyramidLevelSize(fine.width, 1), h = PyramidLevelSize(fine.height, 1);
+
+  // Horizontal pass straight into the decimated columns: w × fine.height. Decimating inside
+  // the filter computes only the texels that are kept.
+  Image half(w, fine.height);
+  for (int y = 0; y < fine.height; ++y) {
+    for (int i = 0; i < w; ++i) {
+      float acc[4] = {0, 0, 0, 0};
+      for (int t = 0; t < 6; ++t) {
+        const float* p = fine.At(Clamp(2 * i + kFirstTap + t, fine.width - 1), y);
+        for (int c = 0; c < 4; ++c) acc[c] += kTaps[t] * p[c];
+      }
+      float* q = half.At(i, y);
+      for (int c = 0; c < 4; ++c) q[c] = acc[c];
+    }
+  }
+
+  // Vertical pass: w × h.
+  Image coarse(w, h);
+  for (int j = 0; j < h; ++j) {
+    const float* rows[6];
+    for (int t = 0; t < 6; ++t) rows[t] = half.At(0, Clamp(2 * j + kFirstTap + t, fine.height - 1));
+    float* out = coarse.At(0, j);
+    for (int k = 0; k < w * 4; ++k) {
+      float acc = 0;
+      for (int t = 0; t < 6; ++t) acc += kTaps[t] * rows[t][k];
+      out[k] = acc;
+    }
+  }
+  return coarse;
+}
+
+std::vector<Image> BuildPyramid(const Image& base, int levels) {
+  if (levels < 1) throw std::invalid_argument("BuildPyramid: levels must be >= 1");
+  if (base.Empty()) throw std::invalid_argument("BuildPyramid: empty image");
+  std::vector<Image> pyramid;
+  pyramid.reserve(levels);
+  pyramid.push_back(base);
+  for (int l = 1; l < levels; ++l) pyramid.push_back(Downsample2x(pyramid.back()));
+  return pyramid;
+}
+
+}  // namespace vkr

@@ -1,0 +1,85 @@
+// Bad files and bad output paths: each an InputError naming the file, on one line, never a
+// crash (DESIGN.md).
+
+#include <gtest/gtest.h>
+
+#include <string>
+
+#include "engine/image/Image.h"
+#include "tests/common/TestFiles.h"
+#include "tests/image/ImageTestUtil.h"
+
+namespace vkr {
+namespace {
+
+using test::ExpectInputError;
+using test::TempDir;
+
+// Both readers must refuse the same files with the same kind of message.
+void ExpectUnreadable(const std::filesystem::path& file, const std::string& needle) {
+  ExpectInputError([&] { LoadImage(file); }, file, needle);
+  ExpectInputError([&] { int w, h; ReadImageSize(file, &w, &h); }, file, needle);
+}
+
+TEST(ImageErrors, MissingFile) {
+  TempDir dir;
+  ExpectUnreadable(dir / "nope.png", "cannot open: No such file or directory");
+}
+
+TEST(ImageErrors, Directory) {
+  TempDir dir;
+  std::filesystem::create_directories(dir / "folder.png");
+  ExpectUnreadable(dir / "folder.png", "is a directory");
+}
+
+TEST(ImageErrors, EmptyFile) {
+  TempDir dir;
+  test::WriteText(dir / "empty.png", "");
+  ExpectUnreadable(dir / "empty.png", "empty");
+}
+
+TEST(ImageErrors, GarbageBytes) {
+  TempDir dir;
+  test::WriteText(dir / "page.png", "<html>\nnot an image\n</html>\n");
+  ExpectUnreadable(dir / "page.png", "not a PNG/JPEG/PGM/PPM/EXR image (stb: ");
+}
+
+TEST(ImageErrors, TruncatedPng) {
+  TempDir dir;
+  WritePng(dir / "full.png", test::RandomBytesImage(64, 64, 2));  // noise: no compression
+  const std::string bytes = test::ReadText(dir / "full.png");
+  test::WriteText(dir / "cut.png", bytes.substr(0, bytes.size() / 2));
+  ExpectInputError([&] { LoadImage(dir / "cut.png"); }, dir / "cut.png", "stb: ");
+  // The size alone is in the first chunk, so a cheap size query may still succeed.
+  int w = 0, h = 0;
+  ReadImageSize(dir / "cut.png", &w, &h);
+  EXPECT_EQ(w, 64);
+  test::WriteText(dir / "stub.png", bytes.substr(0, 12));
+  ExpectUnreadable(dir / "stub.png", "stb: ");
+}
+
+TEST(ImageErrors, UnwritableOutputPaths) {
+  TempDir dir;
+  const Image image(4, 3, 0.5f);
+  test::WriteText(dir / "file", "x");
+  // A missing folder, and a regular file used as a folder (fails even for root).
+  for (const std::filesystem::path& out :
+       {dir / "no" / "such" / "a.png", dir / "file" / "a.png", dir / "no" / "a.exr",
+        dir / "file" / "a.exr"}) {
+    SCOPED_TRACE(out.string());
+    ExpectInputError([&] { WriteImage(out, image); }, out, "cannot write");
+  }
+  ExpectInputError([&] { WritePng(dir / "no" / "a.png", image); }, dir / "no" / "a.png",
+                   "No such file or directory");
+  ExpectInputError([&] { WritePng(dir.path(), image); }, dir.path(), "cannot write");
+  ExpectInputError([&] { WriteExr(dir.path(), image); }, dir.path(), "cannot write");
+}
+
+TEST(ImageErrors, WritingAnEmptyImageIsAProgrammerError) {
+  TempDir dir;
+  EXPECT_THROW(WritePng(dir / "a.png", Image()), std::invalid_argument);
+  EXPECT_THROW(WriteExr(dir / "a.exr", Image()), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace vkr
