@@ -21,8 +21,9 @@ struct Chart {
 
 struct AtlasLayout {
   int size = 0;                        // atlas is size × size texels
-  std::vector<Chart> charts;           // one per (node, face) with a primitive
+  std::vector<Chart> charts;           // one per (node, face) with a primitive, in (node, face) order
   double texels_per_metre = 0.0;       // the common scale of all charts
+  int gutter = 2;                      // texels kept free around every chart (PackAtlas)
 
   // Atlas UV (in [0,1]²) of a face_uv inside chart `c`.
   Eigen::Vector2f AtlasUv(const Chart& c, const Eigen::Vector2f& face_uv) const;
@@ -39,6 +40,8 @@ AtlasLayout PackAtlas(const std::vector<Mesh>& meshes,
 // Paints each node's albedo image into its charts (texels outside every chart stay 0,
 // alpha 0; texels inside get alpha 1), then bleeds chart borders into their gutters.
 // `albedo[n]` empty means mid grey. The result is in the encoded colour space.
+// Alpha: 1 for texels covered by a face, 0.5 for gutter texels filled by the bleeding
+// (layout.gutter rounds of averaging 4-neighbours), 0 for texels no chart reaches.
 Image BakeAlbedoAtlas(const AtlasLayout& layout, const std::vector<Mesh>& meshes,
                       const std::vector<Image>& albedo);
 

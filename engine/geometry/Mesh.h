@@ -32,7 +32,9 @@ struct Mesh {
 // The unit primitives of DESIGN.md, in the box [-0.5,0.5]²×[0,1].
 //   plane: the square at z=0 facing +z, 1 face.
 //   box: 6 faces.  prism: 2 roof slopes, 2 gables, 1 base = 5 faces.
-//   cylinder: `segments` around, side as 1 face (u = angle / 360°, v = z), 2 caps.
+//   cylinder: `segments` around, side as 1 face (u = angle / 360°, v = 1 − z), 2 caps.
+// face_uv shows an albedo image upright to a viewer outside, z up: v = 0 is the image's top
+// row and the highest z of vertical faces (Primitives.cpp spells out every face).
 Mesh MakePrimitive(PrimitiveKind kind, int cylinder_segments = 32);
 
 // Triangles of every mesh of a glTF/GLB file (node transforms applied, in the file's

@@ -6,6 +6,7 @@
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <cstdint>
 #include <filesystem>
 #include <map>
 #include <memory>
@@ -16,6 +17,9 @@
 namespace vkr {
 
 class ExpressionTable;
+namespace scene_detail {
+struct SceneAccess;  // lets the loader install the expression table
+}
 
 // A number in a scene file: a constant, or an expression over parameter names
 // compiled once into the scene's ExpressionTable.
@@ -103,6 +107,9 @@ struct Camera {
 struct LikelihoodSettings {
   std::string kind = "surface";  // "surface" | "image"
   double sigma = 8.0;            // noise sd on the 0–255 scale
+  // `"sigma": "auto"` in the scene file: the run estimates σ from the data. `sigma` then
+  // keeps its default, which a consumer that cannot estimate σ may use.
+  bool sigma_auto = false;
   std::string weights = "angle"; // "uniform" | "angle"
   int atlas = 1024;              // atlas side in texels
   int levels = 3;                // pyramid levels
@@ -117,7 +124,7 @@ struct SamplerSettings {
 
 class Scene {
  public:
-  Scene();
+  Scene();  // empty: no parameters, nodes or cameras; LoadScene fills one in
   ~Scene();
   Scene(Scene&&) noexcept;
   Scene& operator=(Scene&&) noexcept;
@@ -148,6 +155,7 @@ class Scene {
   const ExpressionTable& expressions() const { return *expressions_; }
 
  private:
+  friend struct scene_detail::SceneAccess;
   std::unique_ptr<ExpressionTable> expressions_;
 };
 
@@ -157,10 +165,19 @@ struct SceneOverride {
   std::string value;  // parsed as JSON if it parses, else taken as a string
 };
 
+// What LoadScene checks beyond the scene file itself.
+struct LoadOptions {
+  // Whether every camera's image must exist and match the camera's size. `vkrecon synth`
+  // turns this off: it is about to create the images.
+  bool require_images = true;
+};
+
 // Loads and validates a scene file. Throws InputError (file, JSON path, problem) for every
-// bad input listed in DESIGN.md.
+// bad input listed in DESIGN.md. Nodes must be listed parents first (a child before its
+// parent is an error), so node indices are the file's order.
 Scene LoadScene(const std::filesystem::path& file,
-                const std::vector<SceneOverride>& overrides = {});
+                const std::vector<SceneOverride>& overrides = {},
+                const LoadOptions& options = {});
 
 // The 4×4 matrix of a transform chain at Ψ: T1 · T2 · …
 Eigen::Matrix4d ComposeTransforms(const Scene& scene, const std::vector<Transform>& chain,

@@ -1,0 +1,85 @@
+// `--set PATH=VALUE` overrides (DESIGN.md, "Command line").
+
+#include <gtest/gtest.h>
+
+#include "engine/scene/Scene.h"
+#include "tests/scene/SceneTestUtil.h"
+
+namespace vkr::test {
+namespace {
+
+TEST(Override, SettingsByDottedPath) {
+  TempDir dir;
+  const auto file = WriteScene(dir, BaseScene());
+  const Scene plain = LoadScene(file);
+  EXPECT_EQ(plain.likelihood.sigma, 8.0);
+  EXPECT_EQ(plain.likelihood.kind, "surface");
+  EXPECT_EQ(plain.sampler.seed, 1u);
+
+  // likelihood and sampler are absent from the file: overriding creates them.
+  const Scene s = LoadScene(file, {{"likelihood.sigma", "4"},
+                                   {"sampler.seed", "7"},
+                                   {"likelihood.kind", "image"},
+                                   {"sampler.batch", "32"}});
+  EXPECT_EQ(s.likelihood.sigma, 4.0);
+  EXPECT_EQ(s.sampler.seed, 7u);
+  EXPECT_EQ(s.likelihood.kind, "image");
+  EXPECT_EQ(s.sampler.batch, 32);
+  EXPECT_EQ(s.sampler.iterations, 4000);  // untouched defaults stay
+}
+
+TEST(Override, LaterOverridesWinAndValuesAreValidated) {
+  TempDir dir;
+  Json scene = BaseScene();
+  scene["likelihood"] = Json{{"sigma", 2}};
+  const auto file = WriteScene(dir, scene);
+  EXPECT_EQ(LoadScene(file, {{"likelihood.sigma", "5"}, {"likelihood.sigma", "6"}}).likelihood.sigma,
+            6.0);
+  EXPECT_TRUE(FailsWith([&] { LoadScene(file, {{"likelihood.sigma", "-1"}}); },
+                        {"scene.json: likelihood.sigma", "must be > 0"}));
+  EXPECT_TRUE(FailsWith([&] { LoadScene(file, {{"likelihood.kind", "volume"}}); },
+                        {"likelihood.kind", "unknown kind"}));
+  EXPECT_TRUE(LoadScene(file, {{"likelihood.sigma", "auto"}}).likelihood.sigma_auto);
+}
+
+TEST(Override, UnknownKeyIsAnError) {
+  TempDir dir;
+  const auto file = WriteScene(dir, BaseScene());
+  EXPECT_TRUE(FailsWith([&] { LoadScene(file, {{"likelihood.sigmaa", "4"}}); },
+                        {"scene.json: likelihood.sigmaa: unknown key", "set by --set"}));
+  EXPECT_TRUE(FailsWith([&] { LoadScene(file, {{"samplr.seed", "4"}}); },
+                        {"samplr: unknown key"}));
+}
+
+TEST(Override, NodesCamerasAndImages) {
+  TempDir dir;
+  WritePgm(dir / "other/c1.pgm", 4, 3);
+  WriteText(dir / "cams.json", Json{{"cameras", Json::array({BaseCamera("c1", "c1.pgm")})}}.dump());
+  const auto file = WriteScene(dir, BaseScene());
+  const Scene s = LoadScene(file, {{"nodes[1].primitive", "cylinder"},
+                                   {"cameras", "cams.json"},
+                                   {"images", "other"}});
+  EXPECT_EQ(s.nodes[1].primitive, PrimitiveKind::Cylinder);
+  ASSERT_EQ(s.cameras.size(), 1u);
+  EXPECT_EQ(s.cameras[0].image, (dir.path() / "other/c1.pgm").lexically_normal());
+  // A JSON value: a mesh object.
+  WriteText(dir / "m.glb", "glTF");
+  EXPECT_EQ(LoadScene(file, {{"nodes[0].primitive", R"({"mesh": "m.glb"})"}}).nodes[0].primitive,
+            PrimitiveKind::Mesh);
+}
+
+TEST(Override, BadPaths) {
+  TempDir dir;
+  const auto file = WriteScene(dir, BaseScene());
+  EXPECT_TRUE(FailsWith([&] { LoadScene(file, {{"nodes[5].primitive", "box"}}); },
+                        {"scene.json: nodes[5].primitive", "has no element [5]"}));
+  EXPECT_TRUE(FailsWith([&] { LoadScene(file, {{"version.x", "1"}}); },
+                        {"version.x", "version is not an object"}));
+  EXPECT_TRUE(FailsWith([&] { LoadScene(file, {{"likelihood..sigma", "1"}}); },
+                        {"likelihood..sigma", "bad --set path"}));
+  EXPECT_TRUE(FailsWith([&] { LoadScene(file, {{"", "1"}}); }, {"bad --set path"}));
+  EXPECT_TRUE(FailsWith([&] { LoadScene(file, {{"nodes[x]", "1"}}); }, {"bad --set path"}));
+}
+
+}  // namespace
+}  // namespace vkr::test
