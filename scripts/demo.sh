@@ -5,7 +5,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/bootstrap.sh
-scripts/build.sh
+scripts/build.sh vkrecon
 VKRECON=${VKRECON_BUILD_DIR:-build}/apps/vkrecon
 ASSET=assets/house
 OUT=out/house
