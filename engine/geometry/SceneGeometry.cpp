@@ -3,6 +3,7 @@
 // (to pick the node matrix of a hypothesis) and its atlas position (the chart of its face,
 // fixed for the run). A hypothesis then changes only the small buffer of node matrices.
 
+#include <algorithm>
 #include <stdexcept>
 #include <string>
 
@@ -22,6 +23,10 @@ SceneGeometry BuildSceneGeometry(const Scene& scene, const std::vector<double>& 
       default: g.meshes.push_back(MakePrimitive(node.primitive)); break;
     }
   }
+  const bool drawable = std::any_of(g.meshes.begin(), g.meshes.end(),
+                                    [](const Mesh& m) { return m.TriangleCount() > 0; });
+  if (!drawable)
+    throw InputError(scene.file.string(), "nodes", "no node has a primitive: there is nothing to draw");
   // The layout is decided once, at psi_layout (usually the initial values): chart sizes
   // follow the world extents there, and stay fixed while the sampler moves the geometry.
   g.atlas = PackAtlas(g.meshes, scene.WorldFromNode(psi_layout), atlas_size);

@@ -64,6 +64,13 @@ TEST(Cli, MalformedSceneIsNamed) {
                  {"scene.json"});
 }
 
+TEST(Cli, SceneWithNothingToDrawIsBadInput) {
+  TempDir dir;
+  test::WriteText(dir / "scene.json", R"({"version": 1, "nodes": [{"name": "pivot"}]})");
+  ExpectBadInput(RunCommand(kVkrecon + " render " + Quote(dir / "scene.json") + " -o " + Quote(dir / "v.exr")),
+                 {"scene.json", "nodes", "nothing to draw"});
+}
+
 TEST(Cli, AtFileMissingAParameterNamesIt) {
   TempDir dir;
   test::WriteText(dir / "at.json", R"({"x": 0.1, "y": 0, "w": 1, "d": 1, "h": 0.5})");
