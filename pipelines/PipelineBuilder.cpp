@@ -184,3 +184,31 @@ void SetViewport(VkCommandBuffer cmd, uint32_t width, uint32_t height) {
 }
 
 }  // namespace vkr
+
+namespace vkr {
+
+void BeginRendering(VkCommandBuffer cmd, uint32_t width, uint32_t height, VkImageView colour,
+                    VkClearColorValue clear, VkImageView depth) {
+  VkRenderingAttachmentInfo colour_info{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
+  colour_info.imageView = colour;
+  colour_info.imageLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
+  colour_info.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
+  colour_info.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
+  colour_info.clearValue.color = clear;
+  VkRenderingAttachmentInfo depth_info{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
+  depth_info.imageView = depth;
+  depth_info.imageLayout = VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL;
+  depth_info.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
+  depth_info.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
+  depth_info.clearValue.depthStencil = {0.0f, 0};
+  VkRenderingInfo ri{VK_STRUCTURE_TYPE_RENDERING_INFO};
+  ri.renderArea = {{0, 0}, {width, height}};
+  ri.layerCount = 1;
+  ri.colorAttachmentCount = colour ? 1 : 0;
+  ri.pColorAttachments = colour ? &colour_info : nullptr;
+  ri.pDepthAttachment = depth ? &depth_info : nullptr;
+  vkCmdBeginRendering(cmd, &ri);
+  SetViewport(cmd, width, height);
+}
+
+}  // namespace vkr

@@ -9,6 +9,7 @@
 #include "engine/image/Image.h"
 #include "engine/scene/CameraWriter.h"
 #include "engine/vk/Commands.h"
+#include "pipelines/Environment.h"
 #include "pipelines/GpuScene.h"
 #include "pipelines/NovelViewPass.h"
 
@@ -86,13 +87,20 @@ SynthSummary SynthesiseImages(const SynthOptions& options, vk::Device& device) {
   for (const Camera& scene_camera : scene.Cameras(psi)) {
     Camera camera = ScaleCamera(scene_camera, options.scale);
     Image image = drawer.pass.Render(drawer.transfer, drawer.context, camera);
+    const Eigen::Matrix3d ray_from_pixel = camera.R().transpose() * camera.K.inverse();
     for (size_t i = 0; i < image.rgba.size(); i += 4) {
+      if (image.rgba[i + 3] == 0.0f) {  // no surface: the distant environment shows through
+        const size_t pixel = i / 4;
+        const Eigen::Vector3d uv1(double(pixel % image.width) + 0.5, double(pixel / image.width) + 0.5, 1.0);
+        const Eigen::Vector3f env = EnvironmentColour(ray_from_pixel * uv1);
+        for (int c = 0; c < 3; ++c) image.rgba[i + c] = env[c];
+      }
       for (int c = 0; c < 3; ++c) {
         double v = image.rgba[i + c];
         if (options.noise_sigma > 0.0) v += noise(rng);
         image.rgba[i + c] = float(std::clamp(v, 0.0, 1.0));
       }
-      image.rgba[i + 3] = 1.0f;  // photographs are opaque; the background stays black
+      image.rgba[i + 3] = 1.0f;  // photographs are opaque
     }
     camera.image = options.output_dir / SynthImageName(camera);
     WritePng(camera.image, image);

@@ -1,5 +1,6 @@
 #include "engine/vk/Commands.h"
 
+#include <algorithm>
 #include <cstring>
 #include <limits>
 #include <stdexcept>
@@ -77,7 +78,7 @@ void ImageBarrier(VkCommandBuffer cmd, const GpuImage& image, VkImageLayout from
   b.newLayout = to;
   b.srcQueueFamilyIndex = b.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
   b.image = image.handle();
-  b.subresourceRange = {image.aspect(), 0, 1, 0, image.info().layers};
+  b.subresourceRange = {image.aspect(), 0, image.info().mip_levels, 0, image.info().layers};
   VkDependencyInfo dep{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
   dep.imageMemoryBarrierCount = 1;
   dep.pImageMemoryBarriers = &b;
@@ -141,6 +142,38 @@ void Transfer::UploadImage(const GpuImage& dst, uint32_t layer, const void* data
   region.imageExtent = {dst.info().width, dst.info().height, 1};
   vkCmdCopyBufferToImage(cmd, staging.handle(), dst.handle(), VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
                          1, &region);
+  ImageBarrier(cmd, dst, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, final_layout,
+               VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
+               VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_MEMORY_READ_BIT);
+  context_.SubmitAndWait();
+}
+
+void Transfer::UploadMipChain(const GpuImage& dst, const std::vector<const void*>& mips,
+                              VkImageLayout final_layout) {
+  const GpuImageInfo& info = dst.info();
+  if (mips.size() != info.mip_levels || info.layers != 1)
+    throw std::invalid_argument("Transfer::UploadMipChain: one buffer per mip of a one-layer image");
+  std::vector<VkBufferImageCopy> regions;
+  VkDeviceSize total = 0;
+  for (uint32_t m = 0; m < info.mip_levels; ++m) {
+    VkBufferImageCopy r{};
+    r.bufferOffset = total;
+    r.imageSubresource = {dst.aspect(), m, 0, 1};
+    r.imageExtent = {std::max(1u, info.width >> m), std::max(1u, info.height >> m), 1};
+    regions.push_back(r);
+    total += VkDeviceSize(r.imageExtent.width) * r.imageExtent.height * BytesPerTexel(info.format);
+  }
+  Buffer& staging = Staging(upload_, total, MemoryUse::Upload);
+  for (uint32_t m = 0; m < info.mip_levels; ++m) {
+    const VkDeviceSize next = m + 1 < info.mip_levels ? regions[m + 1].bufferOffset : total;
+    std::memcpy(staging.data<char>() + regions[m].bufferOffset, mips[m], next - regions[m].bufferOffset);
+  }
+  VkCommandBuffer cmd = context_.Begin();
+  ImageBarrier(cmd, dst, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
+               VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, 0, VK_PIPELINE_STAGE_2_COPY_BIT,
+               VK_ACCESS_2_TRANSFER_WRITE_BIT);
+  vkCmdCopyBufferToImage(cmd, staging.handle(), dst.handle(), VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
+                         uint32_t(regions.size()), regions.data());
   ImageBarrier(cmd, dst, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, final_layout,
                VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
                VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_MEMORY_READ_BIT);

@@ -59,6 +59,8 @@ class Transfer {
   void UploadImage(const GpuImage& dst, uint32_t layer, const void* data, VkImageLayout final_layout);
   // Copies one layer of `src`, which is in `layout` and was last written by any stage, to
   // `out` (layer_bytes()); the image stays in `layout`.
+  // Fills every mip of a one-layer image; mips[m] holds mip m's texels tightly packed.
+  void UploadMipChain(const GpuImage& dst, const std::vector<const void*>& mips, VkImageLayout final_layout);
   void ReadImage(const GpuImage& src, uint32_t layer, VkImageLayout layout, void* out);
   void ReadBuffer(const Buffer& src, VkDeviceSize offset, VkDeviceSize bytes, void* out);
 

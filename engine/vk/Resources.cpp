@@ -94,7 +94,7 @@ GpuImage::GpuImage(Device& device, const GpuImageInfo& info) : device_(&device),
   ii.imageType = VK_IMAGE_TYPE_2D;
   ii.format = info.format;
   ii.extent = {info.width, info.height, 1};
-  ii.mipLevels = 1;
+  ii.mipLevels = info.mip_levels;
   ii.arrayLayers = info.layers;
   ii.samples = VK_SAMPLE_COUNT_1_BIT;
   ii.tiling = VK_IMAGE_TILING_OPTIMAL;
@@ -110,9 +110,9 @@ GpuImage::GpuImage(Device& device, const GpuImageInfo& info) : device_(&device),
     VK_CHECK(vkBindImageMemory(device.handle(), image_, memory_, 0));
     VkImageViewCreateInfo vi{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
     vi.image = image_;
-    vi.viewType = info.layers > 1 ? VK_IMAGE_VIEW_TYPE_2D_ARRAY : VK_IMAGE_VIEW_TYPE_2D;
+    vi.viewType = info.layers > 1 || info.array_view ? VK_IMAGE_VIEW_TYPE_2D_ARRAY : VK_IMAGE_VIEW_TYPE_2D;
     vi.format = info.format;
-    vi.subresourceRange = {aspect(), 0, 1, 0, info.layers};
+    vi.subresourceRange = {aspect(), 0, info.mip_levels, 0, info.layers};
     VK_CHECK(vkCreateImageView(device.handle(), &vi, nullptr, &view_));
   } catch (...) {
     Release();
@@ -166,16 +166,35 @@ ShaderModule CreateShaderModule(const Device& device, const uint32_t* code, size
   return ShaderModule(device.handle(), module);
 }
 
-Sampler CreateLinearClampSampler(const Device& device) {
+namespace {
+
+Sampler CreateClampSampler(const Device& device, VkFilter filter, bool mipmaps = false) {
   VkSamplerCreateInfo si{VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO};
-  si.magFilter = VK_FILTER_LINEAR;
-  si.minFilter = VK_FILTER_LINEAR;
-  si.mipmapMode = VK_SAMPLER_MIPMAP_MODE_NEAREST;
+  si.magFilter = filter;
+  si.minFilter = filter;
+  si.mipmapMode = mipmaps ? VK_SAMPLER_MIPMAP_MODE_LINEAR : VK_SAMPLER_MIPMAP_MODE_NEAREST;
   si.addressModeU = si.addressModeV = si.addressModeW = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE;
-  si.maxLod = 0.0f;
+  si.maxLod = mipmaps ? VK_LOD_CLAMP_NONE : 0.0f;
   VkSampler sampler = VK_NULL_HANDLE;
   VK_CHECK(vkCreateSampler(device.handle(), &si, nullptr, &sampler));
   return Sampler(device.handle(), sampler);
+}
+
+}  // namespace
+
+Sampler CreateLinearClampSampler(const Device& device) { return CreateClampSampler(device, VK_FILTER_LINEAR); }
+Sampler CreateNearestClampSampler(const Device& device) { return CreateClampSampler(device, VK_FILTER_NEAREST); }
+Sampler CreateTrilinearClampSampler(const Device& device) { return CreateClampSampler(device, VK_FILTER_LINEAR, true); }
+
+ImageView CreateLayerView(const Device& device, const GpuImage& image, uint32_t layer) {
+  VkImageViewCreateInfo vi{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
+  vi.image = image.handle();
+  vi.viewType = VK_IMAGE_VIEW_TYPE_2D;
+  vi.format = image.info().format;
+  vi.subresourceRange = {image.aspect(), 0, 1, layer, 1};
+  VkImageView view = VK_NULL_HANDLE;
+  VK_CHECK(vkCreateImageView(device.handle(), &vi, nullptr, &view));
+  return ImageView(device.handle(), view);
 }
 
 }  // namespace vkr::vk

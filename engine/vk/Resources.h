@@ -53,6 +53,7 @@ using Sampler = Handle<VkSampler, vkDestroySampler>;
 using Fence = Handle<VkFence, vkDestroyFence>;
 using CommandPool = Handle<VkCommandPool, vkDestroyCommandPool>;
 using QueryPool = Handle<VkQueryPool, vkDestroyQueryPool>;
+using ImageView = Handle<VkImageView, vkDestroyImageView>;
 
 class Buffer {
  public:
@@ -85,6 +86,8 @@ struct GpuImageInfo {
   uint32_t layers = 1;  // > 1 gives a 2D-array view
   VkFormat format = VK_FORMAT_R8G8B8A8_UNORM;
   VkImageUsageFlags usage = 0;
+  bool array_view = false;  // a 2D-array view even for one layer (shaders declaring arrays)
+  uint32_t mip_levels = 1;  // mip m is max(1, width >> m) × max(1, height >> m)
 };
 
 // A 2D (array) image in device memory with one view over all its layers.
@@ -117,6 +120,12 @@ class GpuImage {
 
 uint32_t BytesPerTexel(VkFormat format);
 bool IsDepthFormat(VkFormat format);
+
+// A 2D view of one layer of an array image (to render into that layer).
+ImageView CreateLayerView(const Device& device, const GpuImage& image, uint32_t layer);
+Sampler CreateNearestClampSampler(const Device& device);
+// Linear within and between mips (trilinear), for prefiltered sampling with textureLod.
+Sampler CreateTrilinearClampSampler(const Device& device);
 
 ShaderModule CreateShaderModule(const Device& device, const uint32_t* code, size_t bytes);
 Sampler CreateLinearClampSampler(const Device& device);

@@ -1,0 +1,45 @@
+#pragma once
+// Composite + deviation pass (thesis §6, DESIGN.md steps 3–4) and the final reduction: per
+// hypothesis one ReducedScalars in host-visible memory, summed in a fixed order so that a
+// hypothesis evaluates bit-identically wherever it sits in a batch.
+
+#include "engine/vk/Resources.h"
+#include "pipelines/Evaluation.h"
+
+namespace vkr {
+
+class CompositePass {
+ public:
+  // `views`: the RGBA16F view-texture array; `mask`: the R32_UINT interior mask; both of
+  // side `atlas_size` (level 0) and in GENERAL layout when recorded.
+  CompositePass(vk::Device& device, const vk::GpuImage& views, const vk::GpuImage& mask,
+                int max_batch);
+
+  // Composites slot `slot` over [0, level_size)² and writes its per-workgroup partial sums;
+  // with `write_images`, also the composite and deviation images (for dumps).
+  void record(VkCommandBuffer cmd, int slot, uint32_t level_size, double sigma_255, double cap,
+              bool write_images) const;
+  // Sums the partials of slots [0, batch) into the results; makes them visible to the host.
+  void record_reduce(VkCommandBuffer cmd, int batch, uint32_t level_size) const;
+
+  // After the submission completed.
+  ReducedScalars Result(int slot) const;
+
+  // rgb: weighted mean colour, a: views; and r: s_t/σ² (capped), g: d_t, b: interior, a: surface.
+  const vk::GpuImage& composite() const { return composite_; }
+  const vk::GpuImage& deviation() const { return deviation_; }
+
+ private:
+  uint32_t Groups(uint32_t level_size) const;
+
+  uint32_t view_count_, partial_stride_;
+  vk::GpuImage composite_, deviation_;
+  vk::Buffer partials_, results_;
+  vk::DescriptorSetLayout composite_set_layout_, reduce_set_layout_;
+  vk::PipelineLayout composite_layout_, reduce_layout_;
+  vk::DescriptorPool composite_pool_, reduce_pool_;
+  VkDescriptorSet composite_set_ = VK_NULL_HANDLE, reduce_set_ = VK_NULL_HANDLE;
+  vk::Pipeline composite_pipeline_, reduce_pipeline_;
+};
+
+}  // namespace vkr

@@ -1,0 +1,18 @@
+#include "pipelines/Evaluation.h"
+
+namespace vkr {
+
+Evaluation Score(const ReducedScalars& scalars, const LikelihoodModel& model) {
+  const double sigma = model.sigma / 255.0;
+  const double chi2 = scalars.sum_squares / (sigma * sigma);
+  Evaluation e;
+  e.scalars = scalars;
+  // Without the correction a hypothesis that hides surface drops its texels' χ² terms and
+  // looks better; subtracting each term's expectation (its dof) makes hidden, correctly
+  // registered surface neutral (§7.4).
+  e.log_likelihood = -0.5 * (model.chi2_correction ? chi2 - scalars.dof : chi2);
+  e.log_occlusion_prior = -0.5 * model.unseen_penalty * scalars.seen_none;
+  return e;
+}
+
+}  // namespace vkr

@@ -1,0 +1,320 @@
+#include "pipelines/SurfaceLikelihood.h"
+
+#include <cmath>
+#include <cstring>
+#include <stdexcept>
+
+#include "engine/common/InputError.h"
+#include "engine/geometry/SceneGeometry.h"
+#include "engine/image/Pyramid.h"
+#include "engine/vk/Commands.h"
+#include "pipelines/CompositePass.h"
+#include "pipelines/DepthPass.h"
+#include "pipelines/GpuScene.h"
+#include "pipelines/HalfFloat.h"
+#include "pipelines/InteriorPass.h"
+#include "pipelines/Projection.h"
+#include "pipelines/ViewTexturePass.h"
+
+namespace vkr {
+
+const char* ToString(ViewWeights w) { return w == ViewWeights::Uniform ? "uniform" : "angle"; }
+
+bool FromString(const std::string& s, ViewWeights* w) {
+  if (s == "uniform") *w = ViewWeights::Uniform;
+  else if (s == "angle") *w = ViewWeights::Angle;
+  else return false;
+  return true;
+}
+
+bool SurfaceLikelihoodOptions::IsValid(std::string* why) const {
+  auto fail = [&](const std::string& w) {
+    if (why) *why = w;
+    return false;
+  };
+  if (!(model.sigma > 0.0)) return fail("sigma must be > 0");
+  if (!(model.robust_cap > 0.0)) return fail("robust_cap must be > 0");
+  if (atlas < 16 || (atlas & (atlas - 1)) != 0) return fail("atlas must be a power of two ≥ 16");
+  if (levels < 1 || (atlas >> (levels - 1)) < 16) return fail("too many levels for the atlas size");
+  if (max_batch < 1) return fail("max_batch must be ≥ 1");
+  if (!(depth_tolerance >= 0.0 && depth_tolerance < 0.5)) return fail("depth_tolerance must be in [0, 0.5)");
+  return true;
+}
+
+SurfaceLikelihoodOptions SurfaceLikelihoodOptions::FromScene(const Scene& scene) {
+  SurfaceLikelihoodOptions o;
+  o.model.sigma = scene.likelihood.sigma;
+  if (!FromString(scene.likelihood.weights, &o.weights))
+    throw InputError(scene.file.string(), "likelihood.weights", "must be uniform or angle");
+  o.atlas = scene.likelihood.atlas;
+  o.levels = scene.likelihood.levels;
+  o.max_batch = scene.sampler.batch;
+  return o;
+}
+
+namespace {
+
+constexpr int kTimestampsPerHypothesis = 5;  // start, depth, view, interior, composite
+
+// One camera's images on the GPU.
+struct CameraImages {
+  vk::GpuImage reference;           // RGBA8, encoded colour, mip m = pyramid level m
+  std::vector<vk::GpuImage> depth;  // D32F, one per likelihood level
+};
+
+// Mips for a prefiltered reference: the pyramid down to a few pixels, each level cropped to
+// Vulkan's mip size max(1, n >> m) (the pyramid rounds up; a partial last row or column
+// of a level is dropped).
+std::vector<std::vector<uint8_t>> ReferenceMips(const Image& image) {
+  int count = 1;
+  while ((std::min(image.width, image.height) >> count) >= 4) ++count;
+  std::vector<std::vector<uint8_t>> mips;
+  for (const Image& level : BuildPyramid(image, count)) {
+    const int m = int(mips.size());
+    const int w = std::max(1, image.width >> m), h = std::max(1, image.height >> m);
+    std::vector<uint8_t> bytes(size_t(w) * h * 4);
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x)
+        for (int c = 0; c < 4; ++c)
+          bytes[(size_t(y) * w + x) * 4 + c] =
+              uint8_t(std::lround(std::clamp(level.At(x, y)[c], 0.0f, 1.0f) * 255.0f));
+    mips.push_back(std::move(bytes));
+  }
+  return mips;
+}
+
+}  // namespace
+
+struct SurfaceLikelihood::Impl {
+  vk::Device* device;
+  const Scene* scene;
+  SurfaceLikelihoodOptions options;
+  SceneGeometry geometry;
+  vk::Transfer transfer;
+  vk::CommandContext context;
+  GpuScene gpu_scene;
+  std::vector<CameraImages> cameras;
+  vk::GpuImage views, mask;
+  std::vector<vk::ImageView> view_layers;
+  DepthPass depth_pass;
+  std::unique_ptr<ViewTexturePass> view_pass;
+  InteriorPass interior_pass;
+  std::unique_ptr<CompositePass> composite_pass;
+  std::unique_ptr<vk::TimestampQueries> timestamps;
+  int level = 0;
+  int last_batch = 0;
+
+  Impl(vk::Device& d, const Scene& s, const SurfaceLikelihoodOptions& o)
+      : device(&d),
+        scene(&s),
+        options(o),
+        geometry(BuildSceneGeometry(s, s.InitialValues(), o.atlas)),
+        transfer(d),
+        context(d),
+        gpu_scene(d, transfer, geometry, o.max_batch),
+        depth_pass(d, gpu_scene),
+        interior_pass(d, s, gpu_scene) {}
+
+  uint32_t LevelAtlas() const { return uint32_t(options.atlas >> level); }
+
+  ViewCamera LevelCamera(const Camera& camera) const {
+    ViewCamera v;
+    v.clip_from_world = ClipFromWorld(camera);
+    v.centre = camera.Centre();
+    v.fx_fy = camera.K(0, 0) * camera.K(1, 1);
+    const double texel = 1.0 / geometry.atlas.texels_per_metre;
+    v.texel_area = texel * texel;
+    v.level = level;
+    return v;
+  }
+
+  void Timestamp(VkCommandBuffer cmd, uint32_t index) const {
+    if (!timestamps) return;
+    timestamps->Write(cmd, index);
+    // Without this the timestamp may be taken before the work it follows (LAVAPIPE.md).
+    vk::MemoryBarrier(cmd, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, 0, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, 0);
+  }
+
+  void RecordHypothesis(VkCommandBuffer cmd, int slot, const std::vector<Camera>& cams, bool dump) const {
+    const uint32_t ts = uint32_t(slot) * kTimestampsPerHypothesis;
+    Timestamp(cmd, ts);
+    std::vector<ViewCamera> views_at_level;
+    for (size_t i = 0; i < cams.size(); ++i) {
+      views_at_level.push_back(LevelCamera(cams[i]));
+      const vk::GpuImage& depth = cameras[i].depth[level];
+      // The previous hypothesis's view pass read this depth map: write after read.
+      vk::ImageBarrier(cmd, depth, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL,
+                       VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT, 0,
+                       VK_PIPELINE_STAGE_2_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT,
+                       VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_READ_BIT | VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT);
+      depth_pass.record(cmd, views_at_level.back().clip_from_world, slot, depth);
+      vk::ImageBarrier(cmd, depth, VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL,
+                       VK_IMAGE_LAYOUT_DEPTH_READ_ONLY_OPTIMAL, VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT,
+                       VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT, VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT,
+                       VK_ACCESS_2_SHADER_SAMPLED_READ_BIT);
+    }
+    Timestamp(cmd, ts + 1);
+    // The previous hypothesis's composite read the views and the mask: write after read.
+    for (const vk::GpuImage* image : {&views, &mask})
+      vk::ImageBarrier(cmd, *image, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL,
+                       VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, 0,
+                       VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT, VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT);
+    const int levels = options.levels;
+    for (size_t i = 0; i < cams.size(); ++i)
+      view_pass->record(cmd, views_at_level[i], int(i) * levels + level, slot, view_layers[i], LevelAtlas());
+    Timestamp(cmd, ts + 2);
+    interior_pass.record(cmd, slot, mask, LevelAtlas());
+    Timestamp(cmd, ts + 3);
+    for (const vk::GpuImage* image : {&views, &mask})
+      vk::ImageBarrier(cmd, *image, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, VK_IMAGE_LAYOUT_GENERAL,
+                       VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT, VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT,
+                       VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
+    if (dump)  // the previous dump's readback is done (fenced); only order against this write
+      vk::MemoryBarrier(cmd, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_MEMORY_READ_BIT,
+                        VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
+    composite_pass->record(cmd, slot, LevelAtlas(), options.model.sigma, options.model.robust_cap, dump);
+    Timestamp(cmd, ts + 4);
+  }
+
+  std::vector<Evaluation> Run(const std::vector<std::vector<double>>& batch, bool dump) {
+    if (batch.empty()) return {};
+    if (int(batch.size()) > options.max_batch)
+      throw std::invalid_argument("SurfaceLikelihood::Evaluate: batch of " + std::to_string(batch.size()) +
+                                  " exceeds max_batch " + std::to_string(options.max_batch));
+    std::vector<std::vector<Camera>> cams(batch.size());
+    for (size_t k = 0; k < batch.size(); ++k) {
+      if (batch[k].size() != scene->parameters.size())
+        throw std::invalid_argument("SurfaceLikelihood::Evaluate: hypothesis has the wrong length");
+      const std::vector<Eigen::Matrix4d> world = scene->WorldFromNode(batch[k]);
+      gpu_scene.SetNodeMatrices(int(k), world);
+      interior_pass.SetNodeMatrices(int(k), world);
+      cams[k] = scene->Cameras(batch[k]);
+    }
+    VkCommandBuffer cmd = context.Begin();
+    if (timestamps) timestamps->Reset(cmd);
+    for (size_t k = 0; k < batch.size(); ++k) RecordHypothesis(cmd, int(k), cams[k], dump);
+    composite_pass->record_reduce(cmd, int(batch.size()), LevelAtlas());
+    if (timestamps) timestamps->Write(cmd, uint32_t(batch.size()) * kTimestampsPerHypothesis);
+    context.SubmitAndWait();
+    last_batch = int(batch.size());
+    std::vector<Evaluation> out;
+    for (size_t k = 0; k < batch.size(); ++k) out.push_back(Score(composite_pass->Result(int(k)), options.model));
+    return out;
+  }
+};
+
+SurfaceLikelihood::SurfaceLikelihood(vk::Device& device, const Scene& scene,
+                                     const SurfaceLikelihoodOptions& options) {
+  std::string why;
+  if (!options.IsValid(&why)) throw std::invalid_argument("SurfaceLikelihoodOptions: " + why);
+  if (scene.cameras.size() < 2)
+    throw InputError(scene.file.string(), "cameras", "the surface likelihood needs at least 2 cameras");
+  impl_ = std::make_unique<Impl>(device, scene, options);
+  Impl& m = *impl_;
+  const int levels = options.levels, n = int(scene.cameras.size());
+  for (int i = 0; i < n; ++i) {
+    const CameraModel& cam = scene.cameras[i];
+    const Image image = LoadImage(cam.image);
+    if (image.width != cam.width || image.height != cam.height)
+      throw InputError(scene.file.string(), "cameras[" + std::to_string(i) + "].image",
+                       cam.image.string() + " is " + std::to_string(image.width) + "×" +
+                           std::to_string(image.height) + " but the camera says " +
+                           std::to_string(cam.width) + "×" + std::to_string(cam.height));
+    CameraImages images;
+    const std::vector<std::vector<uint8_t>> mips = ReferenceMips(image);
+    vk::GpuImageInfo info{uint32_t(image.width), uint32_t(image.height), 1, VK_FORMAT_R8G8B8A8_UNORM,
+                          VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT};
+    info.mip_levels = uint32_t(mips.size());
+    images.reference = vk::GpuImage(device, info);
+    std::vector<const void*> mip_data;
+    for (const auto& mip : mips) mip_data.push_back(mip.data());
+    m.transfer.UploadMipChain(images.reference, mip_data, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
+    for (int l = 0; l < levels; ++l) {
+      // Shadow maps at each level's resolution (any size works: they are looked up in
+      // normalised coordinates).
+      const uint32_t w = uint32_t(std::max(1, (image.width + (1 << l) - 1) >> l));
+      const uint32_t h = uint32_t(std::max(1, (image.height + (1 << l) - 1) >> l));
+      images.depth.emplace_back(device, vk::GpuImageInfo{w, h, 1, DepthPass::kFormat,
+                                                         VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT});
+    }
+    m.cameras.push_back(std::move(images));
+  }
+  const uint32_t atlas = uint32_t(options.atlas);
+  m.views = vk::GpuImage(device, {atlas, atlas, uint32_t(n), ViewTexturePass::kFormat,
+                                  VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_STORAGE_BIT |
+                                      VK_IMAGE_USAGE_TRANSFER_SRC_BIT, true});
+  m.mask = vk::GpuImage(device, {atlas, atlas, 1, InteriorPass::kFormat,
+                                 VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_STORAGE_BIT});
+  for (int i = 0; i < n; ++i) m.view_layers.push_back(vk::CreateLayerView(device, m.views, uint32_t(i)));
+  m.view_pass = std::make_unique<ViewTexturePass>(device, m.gpu_scene, n * levels,
+                                                  options.weights == ViewWeights::Angle, options.depth_tolerance);
+  for (int i = 0; i < n; ++i)
+    for (int l = 0; l < levels; ++l)
+      m.view_pass->BindImages(i * levels + l, m.cameras[i].reference.view(), m.cameras[i].depth[l].view());
+  m.composite_pass = std::make_unique<CompositePass>(device, m.views, m.mask, options.max_batch);
+  if (options.profile)
+    m.timestamps = std::make_unique<vk::TimestampQueries>(
+        device, uint32_t(options.max_batch * kTimestampsPerHypothesis + 1));
+}
+
+SurfaceLikelihood::~SurfaceLikelihood() = default;
+
+void SurfaceLikelihood::SetLevel(int level) {
+  if (level < 0 || level >= impl_->options.levels)
+    throw std::out_of_range("SurfaceLikelihood::SetLevel: level " + std::to_string(level) + " of " +
+                            std::to_string(impl_->options.levels));
+  impl_->level = level;
+}
+
+int SurfaceLikelihood::level() const { return impl_->level; }
+int SurfaceLikelihood::levels() const { return impl_->options.levels; }
+const SurfaceLikelihoodOptions& SurfaceLikelihood::options() const { return impl_->options; }
+const Scene& SurfaceLikelihood::scene() const { return *impl_->scene; }
+
+std::vector<Evaluation> SurfaceLikelihood::Evaluate(const std::vector<std::vector<double>>& batch) {
+  return impl_->Run(batch, false);
+}
+
+SurfaceDump SurfaceLikelihood::EvaluateAndDump(const std::vector<double>& psi, Evaluation* evaluation) {
+  Impl& m = *impl_;
+  const Evaluation e = m.Run({psi}, true)[0];
+  if (evaluation) *evaluation = e;
+  const int size = int(m.LevelAtlas()), full = m.options.atlas;
+  auto crop = [&](const std::vector<float>& rgba) {
+    Image out(size, size);
+    for (int y = 0; y < size; ++y)
+      std::memcpy(out.At(0, y), &rgba[size_t(y) * full * 4], size_t(size) * 4 * sizeof(float));
+    return out;
+  };
+  SurfaceDump dump;
+  std::vector<uint16_t> halves(size_t(full) * full * 4);
+  std::vector<float> floats(halves.size());
+  for (uint32_t i = 0; i < m.views.info().layers; ++i) {
+    m.transfer.ReadImage(m.views, i, VK_IMAGE_LAYOUT_GENERAL, halves.data());
+    for (size_t k = 0; k < halves.size(); ++k) floats[k] = HalfToFloat(halves[k]);
+    dump.view_textures.push_back(crop(floats));
+  }
+  m.transfer.ReadImage(m.composite_pass->composite(), 0, VK_IMAGE_LAYOUT_GENERAL, floats.data());
+  dump.composite = crop(floats);
+  m.transfer.ReadImage(m.composite_pass->deviation(), 0, VK_IMAGE_LAYOUT_GENERAL, floats.data());
+  dump.deviation = crop(floats);
+  return dump;
+}
+
+std::map<std::string, double> SurfaceLikelihood::LastPassTimesMs() const {
+  const Impl& m = *impl_;
+  std::map<std::string, double> out;
+  if (!m.timestamps || m.last_batch == 0) return out;
+  const uint32_t count = uint32_t(m.last_batch) * kTimestampsPerHypothesis + 1;
+  const std::vector<double> t = m.timestamps->ReadMs(count);
+  const char* names[] = {"depth", "view_texture", "interior", "composite"};
+  for (int k = 0; k < m.last_batch; ++k)
+    for (int p = 0; p < 4; ++p) {
+      const size_t i = size_t(k) * kTimestampsPerHypothesis + p;
+      out[names[p]] += (t[i + 1] - t[i]) / m.last_batch;
+    }
+  out["reduce"] = t[count - 1] - t[count - 2];
+  return out;
+}
+
+}  // namespace vkr

@@ -1,0 +1,42 @@
+#version 460
+// Interior (occlusion) pass (§7.1.1–7.1.4): marks each surface texel 1 (exterior) or 2
+// (inside, or on the boundary of, another primitive: a box's underside on the ground, a
+// roof's base on its walls, faces of interpenetrating primitives). Texels outside every
+// chart stay 0. The ground plane is solid below it, so what stands on it seals its base.
+
+layout(std430, set = 0, binding = 1) readonly buffer NodeInverse { mat4 node_from_world[]; };
+layout(std430, set = 0, binding = 2) readonly buffer NodeKinds { uint kind[]; };
+
+layout(push_constant) uniform Push {
+  uint node_offset;
+  uint node_count;
+} pc;
+
+layout(location = 0) in vec3 world;
+layout(location = 1) flat in uint node;
+layout(location = 0) out uint mask;
+
+const float kEps = 1e-3;  // in the other node's unit frame: "on the boundary" counts as inside
+const uint kPlane = 1u, kBox = 2u, kPrism = 3u, kCylinder = 4u;
+
+bool Inside(uint k, vec3 p) {
+  const bool in_xy = abs(p.x) <= 0.5 + kEps && abs(p.y) <= 0.5 + kEps;
+  const bool in_z = p.z >= -kEps && p.z <= 1.0 + kEps;
+  if (k == kPlane) return in_xy && p.z <= kEps;
+  if (k == kBox) return in_xy && in_z;
+  if (k == kPrism) return abs(p.x) <= 0.5 + kEps && in_z && abs(p.y) <= 0.5 * (1.0 - p.z) + kEps;
+  if (k == kCylinder) return dot(p.xy, p.xy) <= (0.5 + kEps) * (0.5 + kEps) && in_z;
+  return false;  // meshes and transform-only nodes contain nothing
+}
+
+void main() {
+  for (uint n = 0u; n < pc.node_count; ++n) {
+    if (n == node) continue;
+    const vec3 p = (node_from_world[pc.node_offset + n] * vec4(world, 1.0)).xyz;
+    if (Inside(kind[n], p)) {
+      mask = 2u;
+      return;
+    }
+  }
+  mask = 1u;
+}

@@ -1,0 +1,43 @@
+// The per-hypothesis scalars (pipelines/Evaluation.h ReducedScalars), as partial sums per
+// workgroup and as final results; mirrored by struct GpuScalars in pipelines/CompositePass.cpp.
+struct Scalars {
+  float sum_squares;
+  uint dof;  // integer: a float would lose exactness past 2^24 degrees of freedom
+  uint seen_multi;
+  uint seen_once;
+  uint seen_none;
+  uint interior;
+  uint pad0;
+  uint pad1;
+};
+
+// A fixed-order tree reduction over a 256-thread workgroup, so that the same inputs give
+// bit-identical sums on the same device (seeded chains must repeat exactly).
+shared float s_sum[256];
+shared uint s_dof[256];
+shared uvec4 s_counts[256];
+
+Scalars ReduceWorkgroup(uint tid, Scalars mine) {
+  s_sum[tid] = mine.sum_squares;
+  s_dof[tid] = mine.dof;
+  s_counts[tid] = uvec4(mine.seen_multi, mine.seen_once, mine.seen_none, mine.interior);
+  barrier();
+  for (uint stride = 128u; stride > 0u; stride >>= 1u) {
+    if (tid < stride) {
+      s_sum[tid] += s_sum[tid + stride];
+      s_dof[tid] += s_dof[tid + stride];
+      s_counts[tid] += s_counts[tid + stride];
+    }
+    barrier();
+  }
+  Scalars total;
+  total.sum_squares = s_sum[0];
+  total.dof = s_dof[0];
+  total.seen_multi = s_counts[0].x;
+  total.seen_once = s_counts[0].y;
+  total.seen_none = s_counts[0].z;
+  total.interior = s_counts[0].w;
+  total.pad0 = 0u;
+  total.pad1 = 0u;
+  return total;
+}

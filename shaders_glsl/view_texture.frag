@@ -1,0 +1,43 @@
+#version 460
+// View-specific texture pass, fragment stage: the colour camera i saw at this texel and its
+// weight (§6.3), or weight 0 where the camera cannot see it: behind the near plane, outside
+// the image, back-facing, or occluded according to the depth pass.
+#extension GL_GOOGLE_include_directive : require
+#include "view_texture_push.glsl"
+
+layout(set = 0, binding = 1) uniform sampler2D reference;  // mip chain = image pyramid, trilinear
+layout(set = 0, binding = 2) uniform sampler2D depth_map;  // nearest filter, reversed depth
+
+layout(location = 0) in vec4 clip;
+layout(location = 1) in vec3 world;
+layout(location = 2) in vec3 normal;
+layout(location = 0) out vec4 view;  // rgb: colour seen, a: weight
+
+void main() {
+  view = vec4(0.0);
+  const float z = clip.w;  // camera-space depth
+  const float near = pc.params.w;
+  if (z <= near) return;
+  const vec2 ndc = clip.xy / z;
+  if (abs(ndc.x) > 1.0 || abs(ndc.y) > 1.0) return;
+  const vec3 to_camera = pc.centre_texel_area.xyz - world;
+  const float distance = length(to_camera);
+  const float cos_theta = dot(normalize(normal), to_camera / distance);
+  if (cos_theta <= 0.0) return;
+  const vec2 uv = ndc * 0.5 + 0.5;
+  // Reversed depth near/z: larger is nearer. Visible unless the depth pass found a
+  // surface nearer than z by more than the relative tolerance.
+  if (near / z < texture(depth_map, uv).r * (1.0 - pc.params.y)) return;
+  // The texel's footprint in full-resolution pixels. Where a texel covers several pixels,
+  // the colour comes from the pyramid level that averages them (mip LOD ½·log₂ footprint):
+  // a point sample would alias, and aliasing disagrees between views like misregistration.
+  const float footprint = pc.centre_texel_area.w * cos_theta * pc.params.x / (z * z);
+  const float lod = pc.level + max(0.0, 0.5 * log2(max(footprint, 1e-12)));
+  float weight = 1.0;
+  if (pc.params.z > 0.5) {
+    // Angle weight: foreshortening times the footprint (Figs 6.7–6.8), capped at one
+    // pixel: a texel smaller than a pixel repeats its neighbours' evidence.
+    weight = cos_theta * min(1.0, footprint);
+  }
+  view = vec4(textureLod(reference, uv, lod).rgb, weight);
+}
