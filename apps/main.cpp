@@ -19,6 +19,7 @@ struct Subcommand {
 constexpr Subcommand kSubcommands[] = {
     {"synth", vkr::app::RunSynth, "render reference images of a textured scene at given parameters"},
     {"render", vkr::app::RunRender, "render novel views (linear float RGBA OpenEXR)"},
+    {"likelihood", vkr::app::RunLikelihood, "evaluate, sweep, dump or profile the likelihood at given parameters"},
     {"devices", vkr::app::RunDevices, "list Vulkan devices"},
 };
 
@@ -27,7 +28,7 @@ void PrintUsage(std::ostream& out) {
          "usage: vkrecon <command> [options]   (vkrecon <command> --help for its options)\n\n"
          "commands:\n";
   for (const Subcommand& s : kSubcommands)
-    out << "  " << s.name << std::string(10 - std::strlen(s.name), ' ') << s.summary << "\n";
+    out << "  " << s.name << std::string(12 - std::strlen(s.name), ' ') << s.summary << "\n";
   out << "\nexit status: 0 success, 2 bad input (one line naming file, field and problem), "
          "1 other errors\n";
 }

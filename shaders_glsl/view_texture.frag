@@ -26,8 +26,14 @@ void main() {
   if (cos_theta <= 0.0) return;
   const vec2 uv = ndc * 0.5 + 0.5;
   // Reversed depth near/z: larger is nearer. Visible unless the depth pass found a
-  // surface nearer than z by more than the relative tolerance.
-  if (near / z < texture(depth_map, uv).r * (1.0 - pc.params.y)) return;
+  // surface nearer than z by more than the tolerance. The depth map holds one depth per
+  // pixel centre; across a pixel a surface tilted by θ changes depth by about
+  // z·tanθ / f (f in pixels at this level), so the tolerance grows with tanθ — a fixed
+  // one leaves stripes of "occluded" texels on oblique surfaces (shadow acne).
+  const float tan_theta = min(sqrt(max(1.0 - cos_theta * cos_theta, 0.0)) / cos_theta, 10.0);
+  const float pixel = exp2(pc.level) / sqrt(pc.params.x);  // one level pixel, in units of z
+  const float tolerance = pc.params.y + 1.5 * tan_theta * pixel;
+  if (near / z < texture(depth_map, uv).r * (1.0 - tolerance)) return;
   // The texel's footprint in full-resolution pixels. Where a texel covers several pixels,
   // the colour comes from the pyramid level that averages them (mip LOD ½·log₂ footprint):
   // a point sample would alias, and aliasing disagrees between views like misregistration.

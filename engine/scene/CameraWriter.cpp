@@ -13,7 +13,7 @@ void WriteCamerasJson(const std::filesystem::path& file, const std::vector<Camer
   for (const Camera& c : cameras) {
     nlohmann::json j;
     j["name"] = c.name;
-    std::filesystem::path image = c.image;
+    std::filesystem::path image = std::filesystem::absolute(c.image);
     const auto rel = image.lexically_relative(folder);
     if (!rel.empty() && *rel.begin() != "..") image = rel;
     j["image"] = image.generic_string();
