@@ -11,8 +11,8 @@ namespace {
 
 // Mirrors `Scalars` in shaders_glsl/reduction.glsl (std430).
 struct GpuScalars {
-  float sum_squares;
-  uint32_t dof, seen_multi, seen_once, seen_none, interior, pad0, pad1;
+  float sum_squares, dof;
+  uint32_t seen_multi, seen_once, seen_none, interior, pad0, pad1;
 };
 static_assert(sizeof(GpuScalars) == 32);
 

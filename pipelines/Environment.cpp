@@ -1,5 +1,6 @@
 #include "pipelines/Environment.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 
@@ -31,19 +32,22 @@ float ValueNoise(const Eigen::Vector3d& p) {
 
 Eigen::Vector3f EnvironmentColour(const Eigen::Vector3d& direction) {
   const Eigen::Vector3d d = direction.normalized();
-  float noise = 0.0f, amplitude = 0.5f, total = 0.0f;
-  for (int octave = 0; octave < 5; ++octave) {
-    const double frequency = 6.0 * (1 << octave);
-    noise += amplitude * ValueNoise(d * frequency + Eigen::Vector3d(17.0, 31.0, 47.0) * octave);
-    total += amplitude;
-    amplitude *= 0.6f;
-  }
-  noise /= total;
-  // Light blue-grey above the horizon, dark brown below it; the noise varies both.
-  const float up = float(std::clamp(d.z() * 4.0, -1.0, 1.0)) * 0.5f + 0.5f;
-  const Eigen::Vector3f sky(0.55f, 0.65f, 0.8f), below(0.3f, 0.25f, 0.2f);
-  const Eigen::Vector3f base = below + up * (sky - below);
-  return (base * (0.45f + 1.1f * noise)).cwiseMin(1.0f).cwiseMax(0.0f);
+  // Two noise fields: one for brightness, one for hue, each with detail from a few degrees
+  // up to a radian, and contrast like a cluttered real background's.
+  auto field = [&](double offset) {
+    float noise = 0.0f, amplitude = 0.5f, total = 0.0f;
+    for (int octave = 0; octave < 5; ++octave) {
+      const double frequency = 8.0 * (1 << octave);
+      noise += amplitude * ValueNoise(d * frequency + Eigen::Vector3d(17.0, 31.0, 47.0) * (octave + offset));
+      total += amplitude;
+      amplitude *= 0.7f;
+    }
+    return std::clamp((noise / total - 0.5f) * 3.0f + 0.5f, 0.0f, 1.0f);  // stretched to [0,1]
+  };
+  const float brightness = field(0.0), hue = field(100.0);
+  const Eigen::Vector3f warm(0.75f, 0.55f, 0.35f), cool(0.35f, 0.5f, 0.75f);
+  const Eigen::Vector3f tint = warm + hue * (cool - warm);
+  return (tint * (0.15f + 0.85f * brightness)).cwiseMin(1.0f).cwiseMax(0.0f);
 }
 
 }  // namespace vkr

@@ -10,7 +10,7 @@
 namespace vkr {
 
 // Encoded RGB colour of the environment in world direction `direction` (need not be unit):
-// a sky-to-ground gradient by elevation with multi-scale value noise on the sphere.
+// multi-scale value noise on the sphere for brightness and hue.
 Eigen::Vector3f EnvironmentColour(const Eigen::Vector3d& direction);
 
 }  // namespace vkr

@@ -3,11 +3,17 @@
 // into a log-likelihood (DESIGN.md, "The likelihoods", step 4; thesis §7.4).
 //
 // Per atlas texel t that lies on the surface and outside every other primitive, with n_t
-// views seeing it (weight w_i > 0, colours c_i ∈ [0,1]³):
+// views seeing it (weight w_i ∈ (0, 1], colours c_i ∈ [0,1]³):
 //   mean      μ_t = Σ w_i c_i / Σ w_i
-//   deviation s_t = n_t · Σ w_i ‖c_i − μ_t‖² / Σ w_i      (equal weights: Σ ‖c_i − μ_t‖²)
-//   dof       d_t = 3 (n_t − 1)
-// Under Gaussian noise of sd σ per channel, s_t / σ² ~ χ²(d_t) for a correct hypothesis.
+//   deviation s_t = Σ w_i ‖c_i − μ_t‖²
+//   dof       d_t = 3 (Σ w_i − Σ w_i² / Σ w_i)     (equal weights: 3 (n_t − 1))
+// A weight is a reliability: an oblique or distant view, whose pixel integrates more surface
+// than one texel, counts less (§6.3), and so does a view whose image is steep where the
+// texel lands, since a projection uncertain by δ pixels (calibration, rasterisation,
+// anti-aliasing) adds about (δ·|∇I|)² of colour error: w_i = w_geometry / (1 + (δ|∇I|/σ)²).
+// d_t is the expectation of s_t / σ² when every view carries noise σ, whatever the
+// weights, so the χ² correction below stays calibrated: with d_t = 3(n_t − 1) and weights
+// below 1, S/σ² would fall short of N and every visible texel would look like a reward.
 // A texel's contribution is capped at `robust_cap` per degree of freedom, so a few
 // outliers (specularities, anti-aliased silhouettes) cannot dominate.
 
@@ -20,7 +26,7 @@ namespace vkr {
 // computes). Colours are on the [0,1] scale.
 struct ReducedScalars {
   double sum_squares = 0.0;   // Σ_t min(s_t / σ², cap · d_t) · σ² over texels with n_t ≥ 2
-  double dof = 0.0;           // Σ_t d_t
+  double dof = 0.0;           // Σ_t d_t (effective degrees of freedom)
   uint32_t seen_multi = 0;    // exterior texels seen by ≥ 2 views
   uint32_t seen_once = 0;     // exterior texels seen by exactly 1 view
   uint32_t seen_none = 0;     // exterior texels seen by no view

@@ -38,6 +38,7 @@ bool SurfaceLikelihoodOptions::IsValid(std::string* why) const {
   if (levels < 1 || (atlas >> (levels - 1)) < 16) return fail("too many levels for the atlas size");
   if (max_batch < 1) return fail("max_batch must be ≥ 1");
   if (!(depth_tolerance >= 0.0 && depth_tolerance < 0.5)) return fail("depth_tolerance must be in [0, 0.5)");
+  if (!(position_sd >= 0.0 && position_sd <= 10.0)) return fail("position_sd must be in [0, 10] pixels");
   return true;
 }
 
@@ -69,7 +70,8 @@ std::vector<std::vector<uint8_t>> ReferenceMips(const Image& image) {
   int count = 1;
   while ((std::min(image.width, image.height) >> count) >= 4) ++count;
   std::vector<std::vector<uint8_t>> mips;
-  for (const Image& level : BuildPyramid(image, count)) {
+  for (Image& level : BuildPyramid(image, count)) {
+    StoreGradientInAlpha(level);  // the noise model's |∇I| (Pyramid.h), free to sample with the colour
     const int m = int(mips.size());
     const int w = std::max(1, image.width >> m), h = std::max(1, image.height >> m);
     std::vector<uint8_t> bytes(size_t(w) * h * 4);
@@ -247,7 +249,8 @@ SurfaceLikelihood::SurfaceLikelihood(vk::Device& device, const Scene& scene,
                                  VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_STORAGE_BIT});
   for (int i = 0; i < n; ++i) m.view_layers.push_back(vk::CreateLayerView(device, m.views, uint32_t(i)));
   m.view_pass = std::make_unique<ViewTexturePass>(device, m.gpu_scene, n * levels,
-                                                  options.weights == ViewWeights::Angle, options.depth_tolerance);
+                                                  options.weights == ViewWeights::Angle, options.depth_tolerance,
+                                                  options.model.sigma, options.position_sd);
   for (int i = 0; i < n; ++i)
     for (int l = 0; l < levels; ++l)
       m.view_pass->BindImages(i * levels + l, m.cameras[i].reference.view(), m.cameras[i].depth[l].view());

@@ -30,8 +30,11 @@ struct SurfaceLikelihoodOptions {
   int atlas = 1024;       // atlas side at level 0 (coarser levels use atlas >> level)
   int levels = 3;         // image pyramid levels built at creation
   int max_batch = 16;     // the most hypotheses one Evaluate() takes
-  // Relative depth tolerance of the shadow-map visibility test.
+  // Relative depth tolerance of the shadow-map visibility test (a slope term is added).
   double depth_tolerance = 0.004;
+  // δ of the noise model (Evaluation.h): how many pixels a projection may be off by.
+  // 0 turns the gradient term off.
+  double position_sd = 0.5;
   bool profile = false;   // GPU timestamps around every pass (see LastPassTimesMs)
 
   bool IsValid(std::string* why) const;

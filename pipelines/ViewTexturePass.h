@@ -28,8 +28,9 @@ class ViewTexturePass {
 
   // `bindings`: how many (reference image, depth map) pairs will be bound, one per camera
   // and pyramid level. `angle_weights` false: every visible texel weighs 1.
+  // `sigma_255` and `position_sd`: the noise model of Evaluation.h.
   ViewTexturePass(vk::Device& device, const GpuScene& scene, int bindings, bool angle_weights,
-                  double depth_tolerance);
+                  double depth_tolerance, double sigma_255, double position_sd);
 
   // Binds pair `index` (once, at creation of the likelihood): `reference` (a mip chain, the
   // image pyramid) in SHADER_READ_ONLY_OPTIMAL, `depth` in DEPTH_READ_ONLY_OPTIMAL when recorded.
@@ -44,7 +45,7 @@ class ViewTexturePass {
   vk::Device* device_;
   const GpuScene* scene_;
   bool angle_weights_;
-  double depth_tolerance_;
+  double depth_tolerance_, sigma_, position_sd_;
   vk::Sampler trilinear_, nearest_;
   vk::DescriptorSetLayout set_layout_;
   vk::PipelineLayout layout_;

@@ -25,7 +25,7 @@ layout(push_constant) uniform Push {
 void main() {
   const uvec2 texel = gl_GlobalInvocationID.xy;
   const uint tid = gl_LocalInvocationIndex;
-  Scalars mine = Scalars(0.0, 0u, 0u, 0u, 0u, 0u, 0u, 0u);
+  Scalars mine = Scalars(0.0, 0.0, 0u, 0u, 0u, 0u, 0u, 0u);
   vec3 mean = vec3(0.0);
   float chi2 = 0.0, n = 0.0;
   uint m = 0u;
@@ -33,23 +33,25 @@ void main() {
   if (m == 2u) {
     mine.interior = 1u;
   } else if (m == 1u) {
-    float sw = 0.0, swcc = 0.0;
+    float sw = 0.0, sww = 0.0, swcc = 0.0;
     vec3 swc = vec3(0.0);
     for (uint i = 0u; i < pc.view_count; ++i) {
       const vec4 v = imageLoad(views, ivec3(texel, i));
       if (v.a > 0.0) {
         n += 1.0;
         sw += v.a;
+        sww += v.a * v.a;
         swc += v.a * v.rgb;
         swcc += v.a * dot(v.rgb, v.rgb);
       }
     }
     if (n >= 2.0) {
       mean = swc / sw;
-      // Σ w‖c − μ‖² = Σ w‖c‖² − ‖Σ w c‖² / Σ w, scaled by n / Σ w (Evaluation.h).
-      const float s = n * max(swcc - dot(swc, swc) / sw, 0.0) / sw;
-      const uint dof = 3u * (uint(n) - 1u);
-      chi2 = min(s * pc.inv_sigma2, pc.cap * float(dof));
+      // Σ w‖c − μ‖² = Σ w‖c‖² − ‖Σ w c‖² / Σ w (Evaluation.h).
+      const float s = max(swcc - dot(swc, swc) / sw, 0.0);
+      // Effective degrees of freedom: E[s] = 3σ²(Σw − Σw²/Σw) under noise σ (Evaluation.h).
+      const float dof = 3.0 * max(sw - sww / sw, 0.0);
+      chi2 = min(s * pc.inv_sigma2, pc.cap * dof);
       mine.sum_squares = chi2 / pc.inv_sigma2;
       mine.dof = dof;
       mine.seen_multi = 1u;
@@ -63,7 +65,7 @@ void main() {
   if (pc.write_images != 0u && texel.x < pc.size && texel.y < pc.size) {
     imageStore(composite_out, ivec2(texel), vec4(mean, n));
     imageStore(deviation_out, ivec2(texel),
-               vec4(chi2, float(mine.dof), m == 2u ? 1.0 : 0.0, m != 0u ? 1.0 : 0.0));
+               vec4(chi2, mine.dof, m == 2u ? 1.0 : 0.0, m != 0u ? 1.0 : 0.0));
   }
   const Scalars total = ReduceWorkgroup(tid, mine);
   if (tid == 0u) {

@@ -17,7 +17,7 @@ layout(push_constant) uniform Push {
 void main() {
   const uint tid = gl_LocalInvocationIndex;
   const uint base = gl_WorkGroupID.x * pc.partial_stride;
-  Scalars mine = Scalars(0.0, 0u, 0u, 0u, 0u, 0u, 0u, 0u);
+  Scalars mine = Scalars(0.0, 0.0, 0u, 0u, 0u, 0u, 0u, 0u);
   for (uint i = tid; i < pc.partial_count; i += 256u) {
     const Scalars p = partials[base + i];
     mine.sum_squares += p.sum_squares;

@@ -2,7 +2,7 @@
 // workgroup and as final results; mirrored by struct GpuScalars in pipelines/CompositePass.cpp.
 struct Scalars {
   float sum_squares;
-  uint dof;  // integer: a float would lose exactness past 2^24 degrees of freedom
+  float dof;
   uint seen_multi;
   uint seen_once;
   uint seen_none;
@@ -14,7 +14,7 @@ struct Scalars {
 // A fixed-order tree reduction over a 256-thread workgroup, so that the same inputs give
 // bit-identical sums on the same device (seeded chains must repeat exactly).
 shared float s_sum[256];
-shared uint s_dof[256];
+shared float s_dof[256];
 shared uvec4 s_counts[256];
 
 Scalars ReduceWorkgroup(uint tid, Scalars mine) {

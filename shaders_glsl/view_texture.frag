@@ -45,5 +45,9 @@ void main() {
     // pixel: a texel smaller than a pixel repeats its neighbours' evidence.
     weight = cos_theta * min(1.0, footprint);
   }
-  view = vec4(textureLod(reference, uv, lod).rgb, weight);
+  // Alpha of the reference holds |∇I| (Pyramid.h StoreGradientInAlpha): a view whose
+  // image is steep here is less precise by 1 + (δ|∇I|/σ)² (Evaluation.h).
+  const vec4 sampled = textureLod(reference, uv, lod);
+  const float blur = pc.position_sd_over_sigma * sampled.a;
+  view = vec4(sampled.rgb, weight / (1.0 + blur * blur));
 }

@@ -1,6 +1,8 @@
 // Gaussian pyramid: separable blur + 2× decimation, aligned with the S·K convention of
 // Pyramid.h.
 
+#include <algorithm>
+#include <cmath>
 #include "engine/image/Pyramid.h"
 
 #include <stdexcept>
@@ -67,6 +69,29 @@ std::vector<Image> BuildPyramid(const Image& base, int levels) {
   pyramid.push_back(base);
   for (int l = 1; l < levels; ++l) pyramid.push_back(Downsample2x(pyramid.back()));
   return pyramid;
+}
+
+}  // namespace vkr
+
+namespace vkr {
+
+void StoreGradientInAlpha(Image& image) {
+  const int w = image.width, h = image.height;
+  std::vector<float> gradient(size_t(w) * h);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const int x0 = std::max(0, x - 1), x1 = std::min(w - 1, x + 1);
+      const int y0 = std::max(0, y - 1), y1 = std::min(h - 1, y + 1);
+      double sum = 0.0;
+      for (int c = 0; c < 3; ++c) {
+        const double gx = x1 > x0 ? (image.At(x1, y)[c] - image.At(x0, y)[c]) / (x1 - x0) : 0.0;
+        const double gy = y1 > y0 ? (image.At(x, y1)[c] - image.At(x, y0)[c]) / (y1 - y0) : 0.0;
+        sum += gx * gx + gy * gy;
+      }
+      gradient[size_t(y) * w + x] = float(std::round(std::min(1.0, std::sqrt(sum / 3.0)) * 255.0) / 255.0);
+    }
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) image.At(x, y)[3] = gradient[size_t(y) * w + x];
 }
 
 }  // namespace vkr

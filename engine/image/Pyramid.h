@@ -33,4 +33,10 @@ std::vector<Image> BuildPyramid(const Image& base, int levels);
 // One step of BuildPyramid: blur and halve (size ceil(w/2) × ceil(h/2)).
 Image Downsample2x(const Image& fine);
 
+// Replaces alpha with the image's gradient magnitude, quantised to 8 bits:
+// min(1, sqrt(⅓ Σ_c (∂I_c/∂x)² + (∂I_c/∂y)²)) with central differences (one-sided at the
+// border), in colour units per pixel. The likelihood's noise model turns it into colour
+// uncertainty: a projection off by δ pixels changes the colour by about δ·|∇I|.
+void StoreGradientInAlpha(Image& image);
+
 }  // namespace vkr

@@ -1,0 +1,100 @@
+#pragma once
+// A CPU reference of the surface-space photo-consistency likelihood (DESIGN.md, "The
+// likelihoods"; thesis §5–7), written to be independent of the GPU path: no rasterisation
+// of the scene and no shadow maps. Texels are found by testing atlas texel centres against
+// the flattened triangles in atlas-UV space, interior points by analytic inside tests of
+// the unit primitives, visibility by casting the segment texel → camera centre against
+// every triangle of the scene (Möller–Trumbore), colours by host bilinear sampling of the
+// float pyramid (optionally prefiltered across levels, as the GPU's mip-mapped sampler).
+// Everything is in double precision. The tests compare the GPU's reduced scalars with it.
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "engine/geometry/SceneGeometry.h"
+#include "engine/image/Image.h"
+#include "engine/scene/Scene.h"
+#include "engine/vk/Device.h"
+#include "pipelines/Evaluation.h"
+#include "pipelines/SurfaceLikelihood.h"
+#include "tests/common/TestFiles.h"
+
+namespace vkr::test {
+
+// What became of one atlas texel.
+enum class TexelState : uint8_t { OffSurface, Interior, Exterior };
+
+// Per-texel results, row-major over the level's atlas (A_l × A_l).
+struct ReferenceTexels {
+  int side = 0;                     // A_l = atlas >> level
+  std::vector<TexelState> state;
+  std::vector<int> chart;           // the atlas chart (GpuVertex::face) of on-surface texels, else -1
+  std::vector<uint8_t> views;       // n_t: cameras that see the texel (exterior texels)
+  std::vector<double> deviation;    // s_t (colours on [0,1]); 0 unless n_t ≥ 2
+  std::vector<double> dof;          // d_t, effective degrees of freedom; 0 unless n_t ≥ 2
+  // Per camera c, per texel: rgb = colour seen, a = weight w_i; all 0 where c does not see
+  // the texel (the GPU's view-specific textures, SurfaceDump::view_textures).
+  std::vector<Image> view_textures;
+};
+
+// How the colour a camera sees at a texel is read from its pyramid.
+enum class ColourSampling {
+  // Bilinear at the evaluation level l (pixel centres at +0.5, clamped to the edge).
+  LevelBilinear,
+  // Prefiltered: where a texel covers more than a pixel of level l, the colour comes from
+  // the pyramid level that averages them. λ = l + max(0, ½·log₂ footprint) (footprint as in
+  // the angle weight, in level-l pixels), clamped to the pyramid's last level; the colour
+  // is the linear blend of bilinear samples at levels ⌊λ⌋ and ⌊λ⌋+1 by the fraction of λ,
+  // level k sampled at (u, v)·2^(l−k) (Pyramid.h's geometry). What a trilinear mip-mapped
+  // GPU sampler with an explicit LOD computes.
+  Prefiltered,
+};
+
+// Every camera's image pyramid, in the order of scene.cameras: LoadImage(camera.image) and
+// BuildPyramid(image, levels).
+std::vector<std::vector<Image>> LoadReferencePyramids(const Scene& scene, int levels);
+
+// The reduced scalars of hypothesis `psi` at pyramid level `level`, as SurfaceLikelihood
+// defines them. With ColourSampling::Prefiltered the pyramids need the levels λ can reach.
+// `geometry` is BuildSceneGeometry(scene, scene.InitialValues(), atlas) (the
+// atlas layout is shared with the GPU path); only options.model and options.weights are read,
+// the atlas side comes from geometry.atlas.size. `texels`, when given, receives per-texel data.
+ReducedScalars ReferenceSurfaceScalars(const Scene& scene, const SceneGeometry& geometry,
+                                       const std::vector<std::vector<Image>>& pyramids,
+                                       const std::vector<double>& psi, int level,
+                                       const SurfaceLikelihoodOptions& options,
+                                       ReferenceTexels* texels = nullptr,
+                                       ColourSampling sampling = ColourSampling::LevelBilinear);
+
+// ---- Test scenes shared by the reference's own tests and the GPU comparison ----
+
+// A scene-file camera entry (JSON object text) looking from `eye` at `target`, Z-up world,
+// OpenCV axes, K = [[f, 0, cx], [0, f, cy], [0, 0, 1]].
+std::string LookAtCameraJson(const std::string& name, const Eigen::Vector3d& eye,
+                             const Eigen::Vector3d& target, int width, int height, double f,
+                             double cx, double cy);
+
+// The bundled box asset's textured box (parameters x, y, yaw, w, d, h) on a 4 m × 4 m
+// textured ground, seen by 5 inline cameras of 160×120 on a ring of radius 1.9 m, 1.3–1.7 m
+// high, with noise-free reference images synthesised by `vkrecon synth` at the truth (the
+// asset's truth.json), which is also the scene's initial values (the atlas layout).
+struct SynthBoxScene {
+  std::unique_ptr<TempDir> dir;
+  std::filesystem::path scene_file;
+  Scene scene;
+  std::vector<double> truth;
+};
+SynthBoxScene MakeSynthBoxScene(vk::Device& device);
+
+// ψ with parameter `name` set to `value`.
+std::vector<double> With(const Scene& scene, std::vector<double> psi, const std::string& name,
+                         double value);
+
+// Number of atlas texels whose centre lies on a triangle at `level` (independent of Ψ).
+uint32_t SurfaceTexelCount(const SceneGeometry& geometry, int level);
+
+}  // namespace vkr::test
