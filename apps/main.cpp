@@ -20,6 +20,7 @@ constexpr Subcommand kSubcommands[] = {
     {"synth", vkr::app::RunSynth, "render reference images of a textured scene at given parameters"},
     {"render", vkr::app::RunRender, "render novel views (linear float RGBA OpenEXR)"},
     {"likelihood", vkr::app::RunLikelihood, "evaluate, sweep, dump or profile the likelihood at given parameters"},
+    {"bench", vkr::app::RunBench, "GPU throughput benchmark (thesis appendix A)"},
     {"devices", vkr::app::RunDevices, "list Vulkan devices"},
 };
 
