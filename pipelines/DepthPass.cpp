@@ -8,7 +8,7 @@
 namespace vkr {
 namespace {
 
-struct Push {
+struct DepthPush {
   float clip_from_world[16];
   uint32_t node_offset;
 };
@@ -19,7 +19,7 @@ DepthPass::DepthPass(vk::Device& device, const GpuScene& scene) : scene_(&scene)
   const std::vector<VkDescriptorSetLayoutBinding> bindings = {
       {0, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_VERTEX_BIT, nullptr}};
   set_layout_ = CreateDescriptorSetLayout(device, bindings);
-  layout_ = CreatePipelineLayout(device, set_layout_, sizeof(Push), VK_SHADER_STAGE_VERTEX_BIT);
+  layout_ = CreatePipelineLayout(device, set_layout_, sizeof(DepthPush), VK_SHADER_STAGE_VERTEX_BIT);
   DescriptorSets sets = AllocateDescriptorSets(device, set_layout_, bindings);
   pool_ = std::move(sets.pool);
   set_ = sets.sets[0];
@@ -35,14 +35,14 @@ DepthPass::DepthPass(vk::Device& device, const GpuScene& scene) : scene_(&scene)
 
 void DepthPass::record(VkCommandBuffer cmd, const Eigen::Matrix4d& clip_from_world, int slot,
                        const vk::GpuImage& depth) const {
-  Push push{};
+  DepthPush push{};
   const Eigen::Matrix4f clip = clip_from_world.cast<float>();
   std::memcpy(push.clip_from_world, clip.data(), sizeof(push.clip_from_world));
   push.node_offset = scene_->node_offset(slot);
   BeginRendering(cmd, depth.info().width, depth.info().height, VK_NULL_HANDLE, {}, depth.view());
   vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline_);
   vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_, 0, 1, &set_, 0, nullptr);
-  vkCmdPushConstants(cmd, layout_, VK_SHADER_STAGE_VERTEX_BIT, 0, sizeof(Push), &push);
+  vkCmdPushConstants(cmd, layout_, VK_SHADER_STAGE_VERTEX_BIT, 0, sizeof(DepthPush), &push);
   scene_->Bind(cmd);
   vkCmdDrawIndexed(cmd, scene_->index_count(), 1, 0, 0, 0);
   vkCmdEndRendering(cmd);

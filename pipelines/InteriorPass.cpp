@@ -9,7 +9,7 @@
 namespace vkr {
 namespace {
 
-struct Push {
+struct InteriorPush {
   uint32_t node_offset;
   uint32_t node_count;
 };
@@ -33,7 +33,7 @@ InteriorPass::InteriorPass(vk::Device& device, const Scene& scene, const GpuScen
       {2, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr},
   };
   set_layout_ = CreateDescriptorSetLayout(device, bindings);
-  layout_ = CreatePipelineLayout(device, set_layout_, sizeof(Push),
+  layout_ = CreatePipelineLayout(device, set_layout_, sizeof(InteriorPush),
                                  VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT);
   DescriptorSets sets = AllocateDescriptorSets(device, set_layout_, bindings);
   pool_ = std::move(sets.pool);
@@ -69,12 +69,12 @@ void InteriorPass::SetNodeMatrices(int slot, const std::vector<Eigen::Matrix4d>&
 
 void InteriorPass::record(VkCommandBuffer cmd, int slot, const vk::GpuImage& mask,
                           uint32_t atlas_size) const {
-  const Push push{scene_->node_offset(slot), uint32_t(scene_->node_count())};
+  const InteriorPush push{scene_->node_offset(slot), uint32_t(scene_->node_count())};
   BeginRendering(cmd, atlas_size, atlas_size, mask.view(), {{0.0f, 0.0f, 0.0f, 0.0f}}, VK_NULL_HANDLE);
   vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline_);
   vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_, 0, 1, &set_, 0, nullptr);
   vkCmdPushConstants(cmd, layout_, VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0,
-                     sizeof(Push), &push);
+                     sizeof(InteriorPush), &push);
   scene_->Bind(cmd);
   vkCmdDrawIndexed(cmd, scene_->index_count(), 1, 0, 0, 0);
   vkCmdEndRendering(cmd);

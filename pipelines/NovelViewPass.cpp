@@ -10,7 +10,7 @@
 namespace vkr {
 namespace {
 
-struct Push {
+struct NovelViewPush {
   float clip_from_world[16];
   uint32_t node_offset;
   uint32_t mode;
@@ -33,7 +33,7 @@ NovelViewPass::NovelViewPass(vk::Device& device, const GpuScene& scene, const vk
       {1, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr},
   };
   set_layout_ = CreateDescriptorSetLayout(device, bindings);
-  layout_ = CreatePipelineLayout(device, set_layout_, sizeof(Push),
+  layout_ = CreatePipelineLayout(device, set_layout_, sizeof(NovelViewPush),
                                  VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT);
   DescriptorSets sets = AllocateDescriptorSets(device, set_layout_, bindings);
   pool_ = std::move(sets.pool);
@@ -85,7 +85,7 @@ void NovelViewPass::record(VkCommandBuffer cmd, const Camera& camera, int slot, 
   ri.pColorAttachments = &colour;
   ri.pDepthAttachment = &depth;
 
-  Push push{};
+  NovelViewPush push{};
   const Eigen::Matrix4f clip = ClipFromWorld(camera).cast<float>();
   std::memcpy(push.clip_from_world, clip.data(), sizeof(push.clip_from_world));
   push.node_offset = scene_->node_offset(slot);
@@ -95,7 +95,7 @@ void NovelViewPass::record(VkCommandBuffer cmd, const Camera& camera, int slot, 
   vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline_);
   vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_, 0, 1, &set_, 0, nullptr);
   vkCmdPushConstants(cmd, layout_, VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0,
-                     sizeof(Push), &push);
+                     sizeof(NovelViewPush), &push);
   SetViewport(cmd, w, h);
   scene_->Bind(cmd);
   vkCmdDrawIndexed(cmd, scene_->index_count(), 1, 0, 0, 0);

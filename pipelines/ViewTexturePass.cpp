@@ -11,7 +11,7 @@ namespace vkr {
 namespace {
 
 // Mirrors shaders_glsl/view_texture_push.glsl.
-struct Push {
+struct ViewTexturePush {
   float clip_from_world[16];
   float centre_texel_area[4];
   float params[4];  // fx·fy, depth tolerance, weights mode, near
@@ -19,7 +19,7 @@ struct Push {
   float level;
   float position_sd_over_sigma;  // δ/σ, σ on the [0,1] colour scale
 };
-static_assert(sizeof(Push) <= 128, "push constants beyond the guaranteed 128 bytes");
+static_assert(sizeof(ViewTexturePush) <= 128, "push constants beyond the guaranteed 128 bytes");
 
 }  // namespace
 
@@ -40,7 +40,7 @@ ViewTexturePass::ViewTexturePass(vk::Device& device, const GpuScene& scene, int 
       {2, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr},
   };
   set_layout_ = CreateDescriptorSetLayout(device, layout_bindings);
-  layout_ = CreatePipelineLayout(device, set_layout_, sizeof(Push),
+  layout_ = CreatePipelineLayout(device, set_layout_, sizeof(ViewTexturePush),
                                  VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT);
   DescriptorSets sets = AllocateDescriptorSets(device, set_layout_, layout_bindings, uint32_t(bindings));
   pool_ = std::move(sets.pool);
@@ -67,7 +67,7 @@ void ViewTexturePass::BindImages(int index, VkImageView reference, VkImageView d
 
 void ViewTexturePass::record(VkCommandBuffer cmd, const ViewCamera& camera, int binding, int slot,
                              VkImageView target, uint32_t atlas_size) const {
-  Push push{};
+  ViewTexturePush push{};
   const Eigen::Matrix4f clip = camera.clip_from_world.cast<float>();
   std::memcpy(push.clip_from_world, clip.data(), sizeof(push.clip_from_world));
   for (int k = 0; k < 3; ++k) push.centre_texel_area[k] = float(camera.centre[k]);
@@ -84,7 +84,7 @@ void ViewTexturePass::record(VkCommandBuffer cmd, const ViewCamera& camera, int 
   vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_, 0, 1, &sets_.at(binding), 0,
                           nullptr);
   vkCmdPushConstants(cmd, layout_, VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0,
-                     sizeof(Push), &push);
+                     sizeof(ViewTexturePush), &push);
   scene_->Bind(cmd);
   vkCmdDrawIndexed(cmd, scene_->index_count(), 1, 0, 0, 0);
   vkCmdEndRendering(cmd);

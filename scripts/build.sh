@@ -4,7 +4,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 BUILD_DIR=${VKRECON_BUILD_DIR:-build}
-cmake -S . -B "$BUILD_DIR" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo >/dev/null
+cmake -S . -B "$BUILD_DIR" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DVKRECON_UNITY=ON >/dev/null
 # Arguments name targets (e.g. `vkrecon`); none builds everything.
 targets=()
 for t in "$@"; do targets+=(--target "$t"); done
