@@ -5,9 +5,10 @@ namespace {
 
 std::string Compose(const std::string& file, const std::string& field,
                     const std::string& problem) {
-  std::string line = file.empty() ? std::string("<input>") : file;
-  if (!field.empty()) line += ": " + field;
-  line += ": " + problem;
+  // A command-line option has no file: "--sweep: …" rather than a placeholder.
+  std::string line = file;
+  if (!field.empty()) line += (line.empty() ? "" : ": ") + field;
+  line += (line.empty() ? "" : ": ") + problem;
   // One line, always: a multi-line library message would break the exit-2 contract.
   for (char& c : line)
     if (c == '\n' || c == '\r') c = ' ';
