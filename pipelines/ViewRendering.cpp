@@ -161,6 +161,16 @@ std::vector<Camera> OrbitCameras(const Scene& scene, const std::vector<double>& 
   return out;
 }
 
+std::vector<Image> RenderWithAtlas(vk::Device& device, const Scene& scene, const std::vector<double>& psi,
+                                   const SceneGeometry& geometry, const Image& atlas,
+                                   const std::vector<Camera>& cameras) {
+  SceneDrawer drawer(device, geometry, atlas);
+  drawer.gpu_scene.SetNodeMatrices(0, scene.WorldFromNode(psi));
+  std::vector<Image> out;
+  for (const Camera& camera : cameras) out.push_back(drawer.pass.Render(drawer.transfer, drawer.context, camera));
+  return out;
+}
+
 std::vector<fs::path> RenderViews(const RenderOptions& options, vk::Device& device) {
   if (options.orbit < 0) throw InputError("", "--orbit", "must be ≥ 0");
   LoadOptions load;

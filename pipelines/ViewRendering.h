@@ -55,6 +55,12 @@ std::vector<std::filesystem::path> RenderViews(const RenderOptions& options, vk:
 std::vector<Camera> OrbitCameras(const Scene& scene, const std::vector<double>& psi,
                                  const SceneGeometry& geometry, int n);
 
+// Renders `cameras` of the scene at Ψ, its surface textured with `atlas` (laid out as
+// `geometry.atlas`): the synthetic images of a reconstruction. Alpha 0 off the surface.
+std::vector<Image> RenderWithAtlas(vk::Device& device, const Scene& scene, const std::vector<double>& psi,
+                                   const SceneGeometry& geometry, const Image& atlas,
+                                   const std::vector<Camera>& cameras);
+
 // A camera scaled to another image size: K' = diag(sx, sy, 1)·K under the [0,W] convention.
 Camera ScaleCamera(const Camera& camera, double scale);
 
