@@ -31,17 +31,6 @@ VkDescriptorSetLayoutBinding Binding(uint32_t b, VkDescriptorType type) {
   return {b, type, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr};
 }
 
-void WriteStorageImage(const vk::Device& device, VkDescriptorSet set, uint32_t binding, VkImageView view) {
-  VkDescriptorImageInfo info{VK_NULL_HANDLE, view, VK_IMAGE_LAYOUT_GENERAL};
-  VkWriteDescriptorSet w{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
-  w.dstSet = set;
-  w.dstBinding = binding;
-  w.descriptorCount = 1;
-  w.descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_IMAGE;
-  w.pImageInfo = &info;
-  vkUpdateDescriptorSets(device.handle(), 1, &w, 0, nullptr);
-}
-
 }  // namespace
 
 CompositePass::CompositePass(vk::Device& device, const vk::GpuImage& views, const vk::GpuImage& mask,

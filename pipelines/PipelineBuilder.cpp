@@ -164,16 +164,28 @@ void WriteStorageBuffer(const vk::Device& device, VkDescriptorSet set, uint32_t 
   vkUpdateDescriptorSets(device.handle(), 1, &w, 0, nullptr);
 }
 
-void WriteSampledImage(const vk::Device& device, VkDescriptorSet set, uint32_t binding,
-                       VkImageView view, VkSampler sampler, VkImageLayout layout) {
-  VkDescriptorImageInfo info{sampler, view, layout};
+namespace {
+
+void WriteImage(const vk::Device& device, VkDescriptorSet set, uint32_t binding, VkDescriptorType type,
+                const VkDescriptorImageInfo& info) {
   VkWriteDescriptorSet w{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
   w.dstSet = set;
   w.dstBinding = binding;
   w.descriptorCount = 1;
-  w.descriptorType = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
+  w.descriptorType = type;
   w.pImageInfo = &info;
   vkUpdateDescriptorSets(device.handle(), 1, &w, 0, nullptr);
+}
+
+}  // namespace
+
+void WriteSampledImage(const vk::Device& device, VkDescriptorSet set, uint32_t binding,
+                       VkImageView view, VkSampler sampler, VkImageLayout layout) {
+  WriteImage(device, set, binding, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, {sampler, view, layout});
+}
+
+void WriteStorageImage(const vk::Device& device, VkDescriptorSet set, uint32_t binding, VkImageView view) {
+  WriteImage(device, set, binding, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, {VK_NULL_HANDLE, view, VK_IMAGE_LAYOUT_GENERAL});
 }
 
 void SetViewport(VkCommandBuffer cmd, uint32_t width, uint32_t height) {

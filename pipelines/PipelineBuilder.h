@@ -48,6 +48,9 @@ void WriteStorageBuffer(const vk::Device& device, VkDescriptorSet set, uint32_t 
 void WriteSampledImage(const vk::Device& device, VkDescriptorSet set, uint32_t binding,
                        VkImageView view, VkSampler sampler, VkImageLayout layout);
 
+// A storage image in GENERAL layout.
+void WriteStorageImage(const vk::Device& device, VkDescriptorSet set, uint32_t binding, VkImageView view);
+
 void SetViewport(VkCommandBuffer cmd, uint32_t width, uint32_t height);
 
 // Begins dynamic rendering over [0,width)×[0,height) into an optional colour view (cleared
