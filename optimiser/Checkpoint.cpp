@@ -1,0 +1,260 @@
+// The sampler's state as JSON and back (Sampler::Checkpoint). Doubles are written with
+// nlohmann's shortest round-trip formatting and read back by strtod, so every number comes
+// back bit for bit; non-finite ones are written as strings. RNG streams are written with
+// the engine's operator<< (the standard fixes its text form).
+
+#include <cmath>
+#include <stdexcept>
+
+#include <nlohmann/json.hpp>
+
+#include "optimiser/SamplerState.h"
+
+namespace vkr::opt::detail {
+namespace {
+
+using nlohmann::json;
+
+constexpr const char* kFormat = "vkrecon-sampler-checkpoint";
+constexpr int kVersion = 1;
+
+json Numbers(const std::vector<double>& values) {
+  json j = json::array();
+  for (double v : values) j.push_back(JsonNumber(v));
+  return j;
+}
+
+std::vector<double> ReadNumbers(const json& j) {
+  std::vector<double> out;
+  for (const json& v : j) out.push_back(ReadNumber(v));
+  return out;
+}
+
+json Vector(const Eigen::VectorXd& v) { return Numbers(std::vector<double>(v.data(), v.data() + v.size())); }
+
+Eigen::VectorXd ReadVector(const json& j, int size) {
+  const std::vector<double> v = ReadNumbers(j);
+  if (int(v.size()) != size) throw std::invalid_argument("vector of the wrong size");
+  return Eigen::Map<const Eigen::VectorXd>(v.data(), size);
+}
+
+// Row-major.
+json Matrix(const Eigen::MatrixXd& m) {
+  std::vector<double> v;
+  for (int i = 0; i < m.rows(); ++i)
+    for (int k = 0; k < m.cols(); ++k) v.push_back(m(i, k));
+  return Numbers(v);
+}
+
+Eigen::MatrixXd ReadMatrix(const json& j, int n) {
+  const std::vector<double> v = ReadNumbers(j);
+  if (int(v.size()) != n * n) throw std::invalid_argument("matrix of the wrong size");
+  Eigen::MatrixXd m(n, n);
+  for (int i = 0; i < n; ++i)
+    for (int k = 0; k < n; ++k) m(i, k) = v[size_t(i * n + k)];
+  return m;
+}
+
+std::vector<double> ReadPsi(const json& j, int d) {
+  std::vector<double> v = ReadNumbers(j);
+  if (int(v.size()) != d) throw std::invalid_argument("hypothesis of the wrong size");
+  return v;
+}
+
+}  // namespace
+
+json JsonNumber(double value) {
+  if (std::isfinite(value)) return value;
+  if (std::isnan(value)) return "nan";
+  return value > 0 ? "inf" : "-inf";
+}
+
+double ReadNumber(const json& j) {
+  if (j.is_number()) return j.get<double>();
+  if (j.is_string()) {
+    const std::string s = j.get<std::string>();
+    if (s == "nan") return kNaN;
+    if (s == "inf") return kInf;
+    if (s == "-inf") return -kInf;
+  }
+  throw std::invalid_argument("expected a number, found " + j.dump());
+}
+
+json StateToJson(const State& s) {
+  json j;
+  j["format"] = kFormat;
+  j["version"] = kVersion;
+  j["options"] = ToJson(s.options);
+  j["parameters"] = json::array();
+  for (const ParameterSpec& p : s.parameters) j["parameters"].push_back(ToJson(p));
+  j["target_levels"] = s.target_levels;
+  j["phase"] = ToString(s.phase);
+  j["frame"] = s.frame;
+  j["evaluations"] = s.evaluations;
+  j["iteration"] = s.iteration;
+  j["level"] = s.level;
+
+  j["chains"] = json::array();
+  for (const ChainState& c : s.chains) {
+    json chain = {{"rng", c.rng.State()}, {"swap_attempts", c.swap_attempts},
+                  {"swap_accepts", c.swap_accepts}, {"replicas", json::array()}};
+    for (const Replica& r : c.replicas)
+      chain["replicas"].push_back({{"psi", Numbers(r.psi)},
+                                   {"log_prior", JsonNumber(r.log_prior)},
+                                   {"log_likelihood", JsonNumber(r.log_likelihood)},
+                                   {"proposed", r.proposed},
+                                   {"accepted", r.accepted},
+                                   {"adapt_count", r.adapt_count},
+                                   {"adapt_mean", Vector(r.adapt_mean)},
+                                   {"adapt_scatter", Matrix(r.adapt_scatter)}});
+    j["chains"].push_back(std::move(chain));
+  }
+
+  j["best"] = {{"valid", s.best.valid}, {"level", s.best.level}, {"psi", Numbers(s.best.psi)},
+               {"log_prior", JsonNumber(s.best.log_prior)},
+               {"log_likelihood", JsonNumber(s.best.log_likelihood)}};
+  j["sampling_best"] = JsonNumber(s.sampling_best);
+
+  const RefineState& r = s.refine;
+  j["refine"] = {{"step", r.step},
+                 {"have_point", r.have_point},
+                 {"psi", Numbers(r.psi)},
+                 {"log_prior", JsonNumber(r.log_prior)},
+                 {"log_likelihood", JsonNumber(r.log_likelihood)},
+                 {"gradient", Numbers(r.gradient)},
+                 {"inverse_hessian", r.inverse_hessian.size() ? Matrix(r.inverse_hessian) : json::array()},
+                 {"candidate", Numbers(r.candidate)},
+                 {"step_scale", JsonNumber(r.step_scale)}};
+
+  // The chain so far, column by column.
+  json iteration = json::array(), chain = json::array(), level = json::array(),
+       temperature = json::array(), accepted = json::array(), swapped = json::array(),
+       log_prior = json::array(), log_likelihood = json::array(), psi = json::array();
+  for (const Sample& row : s.samples) {
+    iteration.push_back(row.iteration);
+    chain.push_back(row.chain);
+    level.push_back(row.level);
+    temperature.push_back(JsonNumber(row.temperature));
+    accepted.push_back(row.accepted);
+    swapped.push_back(row.swapped);
+    log_prior.push_back(JsonNumber(row.log_prior));
+    log_likelihood.push_back(JsonNumber(row.log_likelihood));
+    psi.push_back(Numbers(row.psi));
+  }
+  j["samples"] = {{"iteration", iteration}, {"chain", chain}, {"level", level},
+                  {"temperature", temperature}, {"accepted", accepted}, {"swapped", swapped},
+                  {"log_prior", log_prior}, {"log_likelihood", log_likelihood}, {"psi", psi}};
+  return j;
+}
+
+State StateFromJson(const json& j) {
+  try {
+    if (!j.is_object() || j.value("format", "") != kFormat)
+      throw std::invalid_argument("not a sampler checkpoint");
+    if (j.at("version").get<int>() != kVersion)
+      throw std::invalid_argument("unsupported version " + j.at("version").dump());
+    State s;
+    std::string why;
+    if (!FromJson(j.at("options"), &s.options, &why)) throw std::invalid_argument(why);
+    for (const json& p : j.at("parameters")) {
+      ParameterSpec spec;
+      if (!FromJson(p, &spec, &why)) throw std::invalid_argument(why);
+      s.parameters.push_back(spec);
+    }
+    if (!IsValid(s.parameters, &why)) throw std::invalid_argument(why);
+    const int d = s.dimension();
+    s.target_levels = j.at("target_levels").get<int>();
+    if (!FromString(j.at("phase").get<std::string>(), &s.phase))
+      throw std::invalid_argument("unknown phase");
+    s.frame = j.at("frame").get<int64_t>();
+    s.evaluations = j.at("evaluations").get<int64_t>();
+    s.iteration = j.at("iteration").get<int>();
+    s.level = j.at("level").get<int>();
+    if (s.iteration < 0 || s.iteration > s.options.iterations || s.level < 0 ||
+        s.level >= s.target_levels)
+      throw std::invalid_argument("iteration or level out of range");
+
+    const json& chains = j.at("chains");
+    if (int(chains.size()) != s.options.chains) throw std::invalid_argument("wrong number of chains");
+    for (const json& jc : chains) {
+      ChainState c;
+      if (!c.rng.SetState(jc.at("rng").get<std::string>()))
+        throw std::invalid_argument("unreadable RNG state");
+      c.swap_attempts = jc.at("swap_attempts").get<std::vector<int64_t>>();
+      c.swap_accepts = jc.at("swap_accepts").get<std::vector<int64_t>>();
+      const json& replicas = jc.at("replicas");
+      if (int(replicas.size()) != s.options.temperatures ||
+          int(c.swap_attempts.size()) != s.options.temperatures - 1 ||
+          c.swap_accepts.size() != c.swap_attempts.size())
+        throw std::invalid_argument("wrong number of replicas");
+      for (const json& jr : replicas) {
+        Replica r;
+        r.psi = ReadPsi(jr.at("psi"), d);
+        r.log_prior = ReadNumber(jr.at("log_prior"));
+        r.log_likelihood = ReadNumber(jr.at("log_likelihood"));
+        r.proposed = jr.at("proposed").get<int64_t>();
+        r.accepted = jr.at("accepted").get<int64_t>();
+        r.adapt_count = jr.at("adapt_count").get<int64_t>();
+        r.adapt_mean = ReadVector(jr.at("adapt_mean"), d);
+        r.adapt_scatter = ReadMatrix(jr.at("adapt_scatter"), d);
+        c.replicas.push_back(std::move(r));
+      }
+      s.chains.push_back(std::move(c));
+    }
+
+    const json& best = j.at("best");
+    s.best.valid = best.at("valid").get<bool>();
+    s.best.level = best.at("level").get<int>();
+    s.best.psi = ReadNumbers(best.at("psi"));
+    if (s.best.valid && int(s.best.psi.size()) != d) throw std::invalid_argument("best: wrong size");
+    s.best.log_prior = ReadNumber(best.at("log_prior"));
+    s.best.log_likelihood = ReadNumber(best.at("log_likelihood"));
+    s.sampling_best = ReadNumber(j.at("sampling_best"));
+
+    const json& jr = j.at("refine");
+    RefineState& r = s.refine;
+    r.step = jr.at("step").get<int>();
+    r.have_point = jr.at("have_point").get<bool>();
+    r.psi = ReadNumbers(jr.at("psi"));
+    r.log_prior = ReadNumber(jr.at("log_prior"));
+    r.log_likelihood = ReadNumber(jr.at("log_likelihood"));
+    r.gradient = ReadNumbers(jr.at("gradient"));
+    r.candidate = ReadNumbers(jr.at("candidate"));
+    r.step_scale = ReadNumber(jr.at("step_scale"));
+    if (!jr.at("inverse_hessian").empty()) r.inverse_hessian = ReadMatrix(jr.at("inverse_hessian"), d);
+    if (s.phase == Phase::Refining &&
+        (int(r.candidate.size()) != d || r.inverse_hessian.rows() != d ||
+         (r.have_point && (int(r.psi.size()) != d || int(r.gradient.size()) != d))))
+      throw std::invalid_argument("refinement state of the wrong size");
+
+    const json& rows = j.at("samples");
+    const size_t n = rows.at("iteration").size();
+    for (const char* column : {"chain", "level", "temperature", "accepted", "swapped",
+                               "log_prior", "log_likelihood", "psi"})
+      if (rows.at(column).size() != n) throw std::invalid_argument("samples: columns differ in length");
+    if (n != size_t(s.iteration) * size_t(s.options.chains))
+      throw std::invalid_argument("samples: not one row per chain per iteration");
+    s.samples.reserve(n);
+    for (size_t i = 0; i < n; ++i) {
+      Sample row;
+      row.iteration = rows["iteration"][i].get<int>();
+      row.chain = rows["chain"][i].get<int>();
+      row.level = rows["level"][i].get<int>();
+      row.temperature = ReadNumber(rows["temperature"][i]);
+      row.accepted = rows["accepted"][i].get<bool>();
+      row.swapped = rows["swapped"][i].get<bool>();
+      row.log_prior = ReadNumber(rows["log_prior"][i]);
+      row.log_likelihood = ReadNumber(rows["log_likelihood"][i]);
+      row.psi = ReadPsi(rows["psi"][i], d);
+      s.samples.push_back(std::move(row));
+    }
+    return s;
+  } catch (const nlohmann::json::exception& e) {
+    throw std::invalid_argument(std::string("checkpoint: ") + e.what());
+  } catch (const std::invalid_argument& e) {
+    const std::string what = e.what();
+    throw std::invalid_argument(what.rfind("checkpoint: ", 0) == 0 ? what : "checkpoint: " + what);
+  }
+}
+
+}  // namespace vkr::opt::detail

@@ -1,0 +1,438 @@
+// The frames of the sampler: starting points, Metropolis–Hastings iterations with replica
+// exchange and adaptation, level changes; and Run/Resume around them.
+
+#include "optimiser/Sampler.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include <nlohmann/json.hpp>
+
+#include "optimiser/SamplerState.h"
+
+namespace vkr::opt {
+
+const char* ToString(Phase phase) {
+  switch (phase) {
+    case Phase::Start: return "start";
+    case Phase::Sampling: return "sampling";
+    case Phase::Refining: return "refining";
+    case Phase::Done: return "done";
+  }
+  return "?";
+}
+
+bool FromString(const std::string& text, Phase* phase) {
+  for (Phase p : {Phase::Start, Phase::Sampling, Phase::Refining, Phase::Done})
+    if (text == ToString(p)) {
+      *phase = p;
+      return true;
+    }
+  return false;
+}
+
+namespace detail {
+
+int State::Levels() const { return std::max(1, std::min(options.coarse_levels, target_levels)); }
+
+int State::ScheduledLevel(int t) const {
+  const int coarse = options.CoarseIterations();
+  const int levels = Levels();
+  if (levels <= 1 || t >= coarse) return 0;
+  // Equal shares of the coarse iterations, coarsest level first.
+  return (levels - 1) - int(int64_t(t) * (levels - 1) / coarse);
+}
+
+double State::AnnealTemperature(int t) const {
+  const int n = options.AnnealIterations();
+  if (n == 0 || t >= n) return 1.0;
+  const double f = double(t) / double(n);
+  const double t0 = options.initial_temperature;
+  if (options.anneal_schedule == AnnealSchedule::Linear) return t0 + (1.0 - t0) * f;
+  return std::pow(t0, 1.0 - f);
+}
+
+double State::Temperature(int t, int replica) const {
+  return AnnealTemperature(t) * std::pow(options.temperature_ratio, replica);
+}
+
+int State::AdaptStart() const {
+  return std::max(options.AnnealIterations(), options.CoarseIterations());
+}
+
+void State::ConsiderBest(const std::vector<double>& psi, double log_prior, double log_likelihood) {
+  const double lp = log_prior + log_likelihood;
+  if (!std::isfinite(lp) || (best.valid && !(lp > best.log_posterior()))) return;
+  best.valid = true;
+  best.level = level;
+  best.psi = psi;
+  best.log_prior = log_prior;
+  best.log_likelihood = log_likelihood;
+}
+
+State InitialState(const SamplerOptions& options, const std::vector<ParameterSpec>& parameters,
+                   int target_levels) {
+  State s;
+  s.options = options;
+  s.parameters = parameters;
+  s.target_levels = target_levels;
+  const int d = s.dimension();
+  for (int c = 0; c < options.chains; ++c) {
+    ChainState chain;
+    chain.rng = Rng::ForStream(options.seed, uint64_t(c));
+    for (int k = 0; k < options.temperatures; ++k) {
+      Replica r;
+      r.psi.resize(d);
+      for (int i = 0; i < d; ++i) {
+        const ParameterSpec& p = parameters[i];
+        double x = p.Initial();
+        if (options.init_jitter > 0.0)
+          x = p.Clamp(x + options.init_jitter * p.Width() * chain.rng.Normal());
+        r.psi[i] = x;
+      }
+      r.log_prior = LogPrior(parameters, r.psi);
+      r.adapt_mean = Eigen::VectorXd::Zero(d);
+      r.adapt_scatter = Eigen::MatrixXd::Zero(d, d);
+      chain.replicas.push_back(std::move(r));
+    }
+    chain.swap_attempts.assign(std::max(0, options.temperatures - 1), 0);
+    chain.swap_accepts.assign(std::max(0, options.temperatures - 1), 0);
+    s.chains.push_back(std::move(chain));
+  }
+  return s;
+}
+
+}  // namespace detail
+
+bool ValidateProblem(const SamplerOptions& options, const std::vector<ParameterSpec>& parameters,
+                     const Target& target, std::string* why) {
+  if (!options.IsValid(why) || !IsValid(parameters, why)) return false;
+  const int batch = options.chains * options.temperatures;
+  if (target.max_batch() < batch) {
+    if (why)
+      *why = "chains × temperatures = " + std::to_string(batch) +
+             " hypotheses per frame exceed the likelihood's batch of " +
+             std::to_string(target.max_batch());
+    return false;
+  }
+  if (target.levels() < 1) {
+    if (why) *why = "the likelihood has no levels";
+    return false;
+  }
+  return true;
+}
+
+namespace detail {
+
+// The frames, on a State and a Target.
+struct Engine {
+  State s;
+  Target& target;
+
+  Engine(State state, Target& t) : s(std::move(state)), target(t) {}
+
+  std::vector<double> Evaluate(const std::vector<std::vector<double>>& batch) {
+    std::vector<double> out;
+    out.reserve(batch.size());
+    const size_t k = size_t(target.max_batch());
+    for (size_t begin = 0; begin < batch.size(); begin += k) {
+      const size_t end = std::min(batch.size(), begin + k);
+      std::vector<std::vector<double>> part(batch.begin() + begin, batch.begin() + end);
+      const std::vector<double> values = target.Evaluate(part);
+      if (values.size() != part.size())
+        throw std::logic_error("Target::Evaluate returned " + std::to_string(values.size()) +
+                               " values for " + std::to_string(part.size()) + " hypotheses");
+      for (double v : values) out.push_back(std::isfinite(v) ? v : -kInf);
+    }
+    s.evaluations += int64_t(batch.size());
+    return out;
+  }
+
+  std::vector<std::vector<double>> CurrentStates() const {
+    std::vector<std::vector<double>> batch;
+    for (const ChainState& c : s.chains)
+      for (const Replica& r : c.replicas) batch.push_back(r.psi);
+    return batch;
+  }
+
+  // Scores every replica's current state at the current level (the first frame, and the
+  // frame after a level change). The best so far restarts: levels are not comparable.
+  void EvaluateCurrentStates() {
+    target.SetLevel(s.level);
+    const std::vector<double> values = Evaluate(CurrentStates());
+    s.best = Best{};
+    size_t i = 0;
+    for (ChainState& c : s.chains)
+      for (Replica& r : c.replicas) {
+        r.log_likelihood = values[i++];
+        s.ConsiderBest(r.psi, r.log_prior, r.log_likelihood);
+      }
+  }
+
+  // The random-walk proposal of replica k (SamplerOptions: proposal_scale, adapt).
+  std::vector<double> Propose(ChainState& chain, int k, double temperature) {
+    const int d = s.dimension();
+    const Replica& r = chain.replicas[k];
+    Eigen::VectorXd z(d);
+    for (int i = 0; i < d; ++i) z[i] = chain.rng.Normal();
+    Eigen::VectorXd step(d);
+    bool adapted = false;
+    if (s.options.adapt && r.adapt_count >= s.options.adapt_min_samples) {
+      Eigen::MatrixXd cov = r.adapt_scatter / double(r.adapt_count - 1);
+      for (int i = 0; i < d; ++i) {
+        const double w = s.parameters[i].Width();
+        cov(i, i) += s.options.adapt_epsilon * w * w;
+      }
+      cov *= 2.38 * 2.38 / double(d);
+      const Eigen::LLT<Eigen::MatrixXd> llt(cov);
+      if (llt.info() == Eigen::Success) {
+        step = llt.matrixL() * z;
+        adapted = true;
+      }
+    }
+    if (!adapted) {
+      const double f = std::min(s.options.proposal_scale * std::sqrt(temperature), 1.0);
+      for (int i = 0; i < d; ++i) step[i] = f * s.parameters[i].Width() * z[i];
+    }
+    std::vector<double> psi = r.psi;
+    for (int i = 0; i < d; ++i) psi[i] += step[i];
+    return psi;
+  }
+
+  void SamplingFrame() {
+    const int t = s.iteration;
+    if (const int level = s.ScheduledLevel(t); level != s.level) {
+      s.level = level;
+      EvaluateCurrentStates();
+      return;
+    }
+    const int chains = s.options.chains, temps = s.options.temperatures, d = s.dimension();
+    std::vector<double> temperature(temps);
+    for (int k = 0; k < temps; ++k) temperature[k] = s.Temperature(t, k);
+
+    // Proposals, one batch.
+    std::vector<std::vector<double>> proposals, batch;
+    std::vector<double> proposal_prior;
+    for (ChainState& c : s.chains)
+      for (int k = 0; k < temps; ++k) {
+        proposals.push_back(Propose(c, k, temperature[k]));
+        proposal_prior.push_back(LogPrior(s.parameters, proposals.back()));
+        // Outside the support: rejected unscored; the slot carries the current state.
+        batch.push_back(std::isfinite(proposal_prior.back()) ? proposals.back()
+                                                             : c.replicas[k].psi);
+      }
+    const std::vector<double> values = Evaluate(batch);
+
+    // Metropolis–Hastings on log p + log L / T.
+    std::vector<char> accepted(batch.size(), 0), swapped(batch.size(), 0);
+    for (int c = 0; c < chains; ++c) {
+      ChainState& chain = s.chains[c];
+      for (int k = 0; k < temps; ++k) {
+        const size_t i = size_t(c * temps + k);
+        Replica& r = chain.replicas[k];
+        ++r.proposed;
+        const double log_u = std::log(chain.rng.UniformOpen());
+        const double lp = proposal_prior[i], ll = values[i];
+        if (!std::isfinite(lp) || !std::isfinite(ll)) continue;
+        s.ConsiderBest(proposals[i], lp, ll);
+        const double current = r.log_prior + r.log_likelihood / temperature[k];
+        const double proposed = lp + ll / temperature[k];
+        if (current == -kInf || log_u < proposed - current) {
+          r.psi = std::move(proposals[i]);
+          r.log_prior = lp;
+          r.log_likelihood = ll;
+          ++r.accepted;
+          accepted[i] = 1;
+        }
+      }
+      // Replica exchange between neighbours, even and odd pairs in turn. The prior is not
+      // tempered, so only the likelihoods enter the ratio.
+      if (temps > 1 && t % s.options.swap_interval == 0) {
+        for (int k = (t / s.options.swap_interval) % 2; k + 1 < temps; k += 2) {
+          Replica& cold = chain.replicas[k];
+          Replica& hot = chain.replicas[k + 1];
+          ++chain.swap_attempts[k];
+          const double log_u = std::log(chain.rng.UniformOpen());
+          const double log_alpha = (1.0 / temperature[k] - 1.0 / temperature[k + 1]) *
+                                   (hot.log_likelihood - cold.log_likelihood);
+          if (!(log_u < log_alpha)) continue;  // NaN (both −∞) rejects too
+          std::swap(cold.psi, hot.psi);
+          std::swap(cold.log_prior, hot.log_prior);
+          std::swap(cold.log_likelihood, hot.log_likelihood);
+          ++chain.swap_accepts[k];
+          swapped[size_t(c * temps + k)] = swapped[size_t(c * temps + k + 1)] = 1;
+        }
+      }
+    }
+
+    // Adaptation statistics (Welford), once the target distribution stopped moving.
+    if (s.options.adapt && t >= s.AdaptStart())
+      for (ChainState& chain : s.chains)
+        for (Replica& r : chain.replicas) {
+          const Eigen::Map<const Eigen::VectorXd> x(r.psi.data(), d);
+          ++r.adapt_count;
+          const Eigen::VectorXd delta = x - r.adapt_mean;
+          r.adapt_mean += delta / double(r.adapt_count);
+          r.adapt_scatter += delta * (x - r.adapt_mean).transpose();
+        }
+
+    for (int c = 0; c < chains; ++c) {
+      const Replica& r = s.chains[c].replicas[0];
+      Sample row;
+      row.iteration = t;
+      row.chain = c;
+      row.level = s.level;
+      row.temperature = temperature[0];
+      row.accepted = accepted[size_t(c * temps)];
+      row.swapped = swapped[size_t(c * temps)];
+      row.log_prior = r.log_prior;
+      row.log_likelihood = r.log_likelihood;
+      row.psi = r.psi;
+      s.samples.push_back(std::move(row));
+    }
+
+    if (++s.iteration == s.options.iterations) {
+      s.sampling_best = s.best.valid && s.best.level == 0 ? s.best.log_posterior() : -kInf;
+      if (s.options.refine_steps > 0 && s.best.valid && s.best.level == 0) {
+        s.phase = Phase::Refining;
+        StartRefinement(s);
+      } else {
+        s.phase = Phase::Done;
+      }
+    }
+  }
+
+  Progress MakeProgress() const {
+    Progress p;
+    p.phase = s.phase;
+    p.frame = s.frame;
+    p.evaluations = s.evaluations;
+    p.iteration = s.iteration;
+    p.iterations = s.options.iterations;
+    p.refine_step = s.refine.step;
+    p.level = s.level;
+    p.temperature = s.AnnealTemperature(std::min(s.iteration, s.options.iterations - 1));
+    if (s.phase == Phase::Refining || s.phase == Phase::Done) p.temperature = 1.0;
+    p.best_log_posterior = s.best.log_posterior();
+    int64_t proposed = 0, accepted = 0, attempts = 0, swaps = 0;
+    for (const ChainState& c : s.chains) {
+      proposed += c.replicas[0].proposed;
+      accepted += c.replicas[0].accepted;
+      for (size_t k = 0; k < c.swap_attempts.size(); ++k) {
+        attempts += c.swap_attempts[k];
+        swaps += c.swap_accepts[k];
+      }
+    }
+    p.acceptance = proposed ? double(accepted) / double(proposed) : 0.0;
+    p.swap_acceptance = attempts ? double(swaps) / double(attempts) : kNaN;
+    return p;
+  }
+};
+
+}  // namespace detail
+
+struct Sampler::Impl : detail::Engine {
+  using Engine::Engine;
+};
+
+Sampler::Sampler(const SamplerOptions& options, std::vector<ParameterSpec> parameters,
+                 Target& target) {
+  std::string why;
+  if (!ValidateProblem(options, parameters, target, &why)) throw std::invalid_argument(why);
+  impl_ = std::make_unique<Impl>(detail::InitialState(options, parameters, target.levels()), target);
+}
+
+Sampler::Sampler(const nlohmann::json& checkpoint, Target& target) {
+  detail::State state = detail::StateFromJson(checkpoint);
+  std::string why;
+  if (!ValidateProblem(state.options, state.parameters, target, &why))
+    throw std::invalid_argument("checkpoint: " + why);
+  if (target.levels() != state.target_levels)
+    throw std::invalid_argument("checkpoint: the run had " + std::to_string(state.target_levels) +
+                                " likelihood levels, this likelihood has " +
+                                std::to_string(target.levels()));
+  impl_ = std::make_unique<Impl>(std::move(state), target);
+  if (impl_->s.phase != Phase::Start) target.SetLevel(impl_->s.level);
+}
+
+Sampler::~Sampler() = default;
+
+bool Sampler::done() const { return impl_->s.phase == Phase::Done; }
+
+Progress Sampler::Step() {
+  detail::State& s = impl_->s;
+  switch (s.phase) {
+    case Phase::Start:
+      s.level = s.ScheduledLevel(0);
+      impl_->EvaluateCurrentStates();
+      s.phase = Phase::Sampling;
+      break;
+    case Phase::Sampling:
+      impl_->SamplingFrame();
+      break;
+    case Phase::Refining:
+      detail::RefineFrame(s, [this](const auto& batch) { return impl_->Evaluate(batch); });
+      break;
+    case Phase::Done:
+      throw std::logic_error("Sampler::Step after the run is done");
+  }
+  ++s.frame;
+  return impl_->MakeProgress();
+}
+
+Progress Sampler::progress() const { return impl_->MakeProgress(); }
+nlohmann::json Sampler::Checkpoint() const { return detail::StateToJson(impl_->s); }
+SamplerSummary Sampler::Summary() const { return detail::Summarise(impl_->s); }
+const SamplerOptions& Sampler::options() const { return impl_->s.options; }
+const std::vector<ParameterSpec>& Sampler::parameters() const { return impl_->s.parameters; }
+
+namespace {
+
+bool Drive(Sampler& sampler, SamplerSummary* summary, const SamplerCallbacks& callbacks) {
+  bool stopped = false;
+  while (!sampler.done() && !stopped) {
+    const Progress progress = sampler.Step();
+    if (!callbacks.on_frame) continue;
+    const FrameRequest request = callbacks.on_frame(progress);
+    if (request.checkpoint && callbacks.on_checkpoint) callbacks.on_checkpoint(sampler.Checkpoint());
+    stopped = request.stop;
+  }
+  *summary = sampler.Summary();
+  if (stopped && !sampler.done()) summary->message = "stopped by the caller; " + summary->message;
+  return summary->termination == Termination::Completed;
+}
+
+bool FailRun(SamplerSummary* summary, const std::string& why) {
+  *summary = SamplerSummary{};
+  summary->termination = Termination::Failed;
+  summary->message = why;
+  return false;
+}
+
+}  // namespace
+
+bool Run(const SamplerOptions& options, const std::vector<ParameterSpec>& parameters,
+         Target& target, SamplerSummary* summary, const SamplerCallbacks& callbacks) {
+  std::string why;
+  if (!ValidateProblem(options, parameters, target, &why)) return FailRun(summary, why);
+  Sampler sampler(options, parameters, target);
+  return Drive(sampler, summary, callbacks);
+}
+
+bool Run(Sampler& sampler, SamplerSummary* summary, const SamplerCallbacks& callbacks) {
+  return Drive(sampler, summary, callbacks);
+}
+
+bool Resume(const nlohmann::json& checkpoint, Target& target, SamplerSummary* summary,
+            const SamplerCallbacks& callbacks) {
+  std::unique_ptr<Sampler> sampler;
+  try {
+    sampler = std::make_unique<Sampler>(checkpoint, target);
+  } catch (const std::invalid_argument& e) {
+    return FailRun(summary, e.what());
+  }
+  return Drive(*sampler, summary, callbacks);
+}
+
+}  // namespace vkr::opt

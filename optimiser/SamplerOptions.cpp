@@ -1,0 +1,153 @@
+#include "optimiser/SamplerOptions.h"
+
+#include <cmath>
+#include <limits>
+#include <set>
+
+#include <nlohmann/json.hpp>
+
+namespace vkr::opt {
+namespace {
+
+bool OptionsFail(std::string* why, const std::string& message) {
+  if (why) *why = message;
+  return false;
+}
+
+// Calls f(name, field) for every field, so that ToJson and FromJson cannot drift apart.
+template <class Options, class F>
+void ForEachField(Options& o, F&& f) {
+  f("iterations", o.iterations);
+  f("chains", o.chains);
+  f("temperatures", o.temperatures);
+  f("temperature_ratio", o.temperature_ratio);
+  f("swap_interval", o.swap_interval);
+  f("initial_temperature", o.initial_temperature);
+  f("anneal_fraction", o.anneal_fraction);
+  f("anneal_schedule", o.anneal_schedule);
+  f("burn_in_fraction", o.burn_in_fraction);
+  f("proposal_scale", o.proposal_scale);
+  f("init_jitter", o.init_jitter);
+  f("adapt", o.adapt);
+  f("adapt_min_samples", o.adapt_min_samples);
+  f("adapt_epsilon", o.adapt_epsilon);
+  f("coarse_levels", o.coarse_levels);
+  f("coarse_fraction", o.coarse_fraction);
+  f("refine_steps", o.refine_steps);
+  f("refine_difference", o.refine_difference);
+  f("refine_tolerance", o.refine_tolerance);
+  f("seed", o.seed);
+}
+
+}  // namespace
+
+const char* ToString(AnnealSchedule schedule) {
+  switch (schedule) {
+    case AnnealSchedule::Geometric: return "geometric";
+    case AnnealSchedule::Linear: return "linear";
+  }
+  return "?";
+}
+
+bool FromString(const std::string& text, AnnealSchedule* schedule) {
+  if (text == "geometric") *schedule = AnnealSchedule::Geometric;
+  else if (text == "linear") *schedule = AnnealSchedule::Linear;
+  else return false;
+  return true;
+}
+
+int SamplerOptions::BurnIn() const { return int(std::floor(burn_in_fraction * iterations)); }
+int SamplerOptions::AnnealIterations() const {
+  return initial_temperature == 1.0 ? 0 : int(std::floor(anneal_fraction * iterations));
+}
+int SamplerOptions::CoarseIterations() const {
+  return coarse_levels <= 1 ? 0 : int(std::floor(coarse_fraction * iterations));
+}
+
+bool SamplerOptions::IsValid(std::string* why) const {
+  const auto fraction = [](double f) { return std::isfinite(f) && f >= 0.0 && f < 1.0; };
+  if (iterations < 1) return OptionsFail(why, "iterations must be ≥ 1");
+  if (chains < 1) return OptionsFail(why, "chains must be ≥ 1");
+  if (temperatures < 1) return OptionsFail(why, "temperatures must be ≥ 1");
+  if (temperatures > 1 && !(std::isfinite(temperature_ratio) && temperature_ratio > 1.0))
+    return OptionsFail(why, "temperature_ratio must be > 1 when temperatures > 1");
+  if (swap_interval < 1) return OptionsFail(why, "swap_interval must be ≥ 1");
+  if (!(std::isfinite(initial_temperature) && initial_temperature >= 1.0))
+    return OptionsFail(why, "initial_temperature must be ≥ 1");
+  if (!fraction(anneal_fraction)) return OptionsFail(why, "anneal_fraction must lie in [0, 1)");
+  if (!fraction(burn_in_fraction)) return OptionsFail(why, "burn_in_fraction must lie in [0, 1)");
+  if (!fraction(coarse_fraction)) return OptionsFail(why, "coarse_fraction must lie in [0, 1)");
+  if (AnnealIterations() > BurnIn())
+    return OptionsFail(why, "anneal_fraction must not exceed burn_in_fraction: annealed states are "
+                     "not posterior samples");
+  if (CoarseIterations() > BurnIn())
+    return OptionsFail(why, "coarse_fraction must not exceed burn_in_fraction: coarse-level states "
+                     "are not posterior samples");
+  if (!(std::isfinite(proposal_scale) && proposal_scale > 0.0))
+    return OptionsFail(why, "proposal_scale must be > 0");
+  if (!(std::isfinite(init_jitter) && init_jitter >= 0.0)) return OptionsFail(why, "init_jitter must be ≥ 0");
+  if (adapt_min_samples < 2) return OptionsFail(why, "adapt_min_samples must be ≥ 2");
+  if (!(std::isfinite(adapt_epsilon) && adapt_epsilon > 0.0))
+    return OptionsFail(why, "adapt_epsilon must be > 0");
+  if (coarse_levels < 1) return OptionsFail(why, "coarse_levels must be ≥ 1");
+  if (refine_steps < 0) return OptionsFail(why, "refine_steps must be ≥ 0");
+  if (!(std::isfinite(refine_difference) && refine_difference > 0.0 && refine_difference < 0.5))
+    return OptionsFail(why, "refine_difference must lie in (0, 0.5)");
+  if (!(std::isfinite(refine_tolerance) && refine_tolerance > 0.0))
+    return OptionsFail(why, "refine_tolerance must be > 0");
+  return true;
+}
+
+nlohmann::json ToJson(const SamplerOptions& options) {
+  nlohmann::json j = nlohmann::json::object();
+  ForEachField(options, [&](const char* name, const auto& field) {
+    using T = std::decay_t<decltype(field)>;
+    if constexpr (std::is_enum_v<T>) j[name] = ToString(field);
+    else j[name] = field;
+  });
+  return j;
+}
+
+bool FromJson(const nlohmann::json& json, SamplerOptions* options, std::string* why) {
+  if (!json.is_object()) return OptionsFail(why, "sampler options must be a JSON object");
+  SamplerOptions out = *options;
+  std::set<std::string> known;
+  std::string error;
+  ForEachField(out, [&](const char* name, auto& field) {
+    known.insert(name);
+    const auto it = json.find(name);
+    if (it == json.end() || !error.empty()) return;
+    using T = std::decay_t<decltype(field)>;
+    const std::string key = std::string("sampler.") + name;
+    if constexpr (std::is_enum_v<T>) {
+      if (!it->is_string() || !FromString(it->template get<std::string>(), &field))
+        error = key + ": unknown value " + it->dump();
+    } else if constexpr (std::is_same_v<T, bool>) {
+      if (!it->is_boolean()) error = key + ": expected true or false";
+      else field = it->template get<bool>();
+    } else if constexpr (std::is_unsigned_v<T>) {
+      // nlohmann reads every non-negative integer as unsigned.
+      if (!it->is_number_unsigned()) error = key + ": expected an integer ≥ 0";
+      else field = it->template get<T>();
+    } else if constexpr (std::is_integral_v<T>) {
+      const bool fits = it->is_number_unsigned()
+                            ? it->template get<uint64_t>() <= uint64_t(std::numeric_limits<T>::max())
+                            : it->is_number_integer() &&
+                                  it->template get<int64_t>() >= std::numeric_limits<T>::min() &&
+                                  it->template get<int64_t>() <= std::numeric_limits<T>::max();
+      if (!fits) error = key + ": expected an integer";
+      else field = it->template get<T>();
+    } else {
+      if (!it->is_number()) error = key + ": expected a number";
+      else field = it->template get<T>();
+    }
+  });
+  if (!error.empty()) return OptionsFail(why, error);
+  for (const auto& [key, value] : json.items())
+    if (!known.count(key)) return OptionsFail(why, "sampler." + key + ": unknown option");
+  if (!out.IsValid(why)) return false;
+  *options = out;
+  return true;
+}
+
+}  // namespace vkr::opt

@@ -1,0 +1,99 @@
+#pragma once
+// How the sampler runs (DESIGN.md, "The optimiser"): Metropolis–Hastings on
+//   log p(Ψ) + log L(Ψ) / T
+// with `chains` independent chains, each a ladder of `temperatures` replicas that exchange
+// states (parallel tempering), annealed from a hot start to T = 1 (§7.2, Fig 7.17), run
+// coarse-to-fine over the likelihood's pyramid levels (§7.3), with an adaptive proposal
+// covariance once the target stops changing (Haario et al. 2001), and finished by a
+// gradient refinement of the best hypothesis from finite differences.
+//
+// One frame evaluates every replica's proposal in one call of Target::Evaluate, so
+// chains × temperatures must not exceed the target's batch.
+//
+// Schedule of one run of N = `iterations` iterations:
+//   [0, coarse)   coarse levels, coarsest first, equal shares    coarse = ⌊coarse_fraction·N⌋
+//   [0, anneal)   T of the coldest replica falls to 1             anneal = ⌊anneal_fraction·N⌋
+//   [max(coarse, anneal), N)   adaptation collects its statistics
+//   [burn_in, N)  the cold replicas' states are the posterior sample  burn_in = ⌊burn_in_fraction·N⌋
+//   then up to `refine_steps` gradient steps at level 0, T = 1.
+
+#include <cstdint>
+#include <string>
+
+#include <nlohmann/json_fwd.hpp>
+
+namespace vkr::opt {
+
+enum class AnnealSchedule {
+  Geometric,  // log T falls linearly: T(t) = T0^(1 − t/anneal)
+  Linear,     // T falls linearly: T(t) = T0 + (1 − T0) t/anneal
+};
+const char* ToString(AnnealSchedule schedule);
+bool FromString(const std::string& text, AnnealSchedule* schedule);
+
+struct SamplerOptions {
+  // Metropolis–Hastings iterations; every frame advances every replica of every chain by one.
+  int iterations = 4000;
+  // Independent chains. R̂ compares them, so use several (≥ 2) when the statistics matter.
+  int chains = 4;
+
+  // Replicas per chain at temperatures T·ratio^k, k = 0 … temperatures − 1, where T is
+  // the annealing temperature; neighbours try to swap states every `swap_interval`
+  // iterations (even pairs and odd pairs in turn). 1 turns replica exchange off.
+  int temperatures = 4;
+  double temperature_ratio = 2.0;  // > 1
+  int swap_interval = 1;
+
+  // Annealing: the coldest replica's temperature falls from `initial_temperature` to 1
+  // over the first anneal_fraction · iterations. initial_temperature = 1 disables it.
+  double initial_temperature = 10.0;
+  double anneal_fraction = 0.25;
+  AnnealSchedule anneal_schedule = AnnealSchedule::Geometric;
+
+  // Fraction of the iterations left out of the posterior statistics. It must cover the
+  // annealing and the coarse levels, whose states do not sample the posterior.
+  double burn_in_fraction = 0.5;
+
+  // Random-walk proposal sd of each parameter as a fraction of its prior width (Width()),
+  // times √T of the replica (a hot replica's target is wider), at most one width.
+  double proposal_scale = 0.05;
+  // Starting points: each replica starts at the parameters' initial values plus a normal
+  // jitter of this fraction of the prior width (0: all at the initial values).
+  double init_jitter = 0.0;
+
+  // Adaptive Metropolis (Haario et al. 2001): once annealing and the coarse levels are over
+  // and a replica has collected `adapt_min_samples` states, its proposal covariance becomes
+  // 2.38²/d · (Σ + ε·diag(width²)), Σ the covariance of its states so far.
+  bool adapt = true;
+  int adapt_min_samples = 100;  // ≥ 2
+  double adapt_epsilon = 1e-6;  // ε, > 0: keeps the covariance positive definite
+
+  // Coarse-to-fine (§7.3): use at most this many levels of the target (1: level 0 only),
+  // spending coarse_fraction · iterations on the coarse ones, coarsest first.
+  int coarse_levels = 3;
+  double coarse_fraction = 0.2;
+
+  // Gradient refinement after sampling: at most this many steps (0: none), each one batch
+  // with the candidate and its ± central-difference neighbours (2d + 1 hypotheses), steps
+  // preconditioned by the posterior covariance and improved by BFGS updates.
+  int refine_steps = 20;
+  double refine_difference = 1e-4;  // finite-difference step, fraction of the prior width
+  double refine_tolerance = 1e-7;   // stop when no parameter moves by more width than this
+
+  uint64_t seed = 1;
+
+  // Whether every field is in range; otherwise `why` names the field and the problem.
+  bool IsValid(std::string* why) const;
+
+  // Derived iteration counts (see the schedule above).
+  int BurnIn() const;
+  int AnnealIterations() const;
+  int CoarseIterations() const;
+};
+
+// Every field by name; FromJson takes any subset of them (the others keep `options`'s
+// values) and rejects unknown keys, wrong types and invalid results with a reason.
+nlohmann::json ToJson(const SamplerOptions& options);
+bool FromJson(const nlohmann::json& json, SamplerOptions* options, std::string* why);
+
+}  // namespace vkr::opt

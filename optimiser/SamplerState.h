@@ -1,0 +1,116 @@
+#pragma once
+// Internal to optimiser/: the sampler's whole state, shared by Sampler.cpp (the frames),
+// Refinement.cpp, Checkpoint.cpp and Summary.cpp. Everything a run needs to continue lives
+// here, so a checkpoint is this struct written out.
+
+#include <cstdint>
+#include <functional>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include <Eigen/Dense>
+#include <nlohmann/json_fwd.hpp>
+
+#include "optimiser/Parameter.h"
+#include "optimiser/Random.h"
+#include "optimiser/Sampler.h"
+#include "optimiser/SamplerOptions.h"
+
+namespace vkr::opt::detail {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+// One replica of a chain: its current state and the statistics of its temperature slot.
+// Replica exchange swaps states (psi, log_prior, log_likelihood) between slots; the
+// counters and the adaptation accumulators stay with the slot (the temperature).
+struct Replica {
+  std::vector<double> psi;
+  double log_prior = -kInf;
+  double log_likelihood = -kInf;  // at the current level
+  int64_t proposed = 0, accepted = 0;
+  // Welford accumulators of the states collected for adaptation (Haario et al. 2001).
+  int64_t adapt_count = 0;
+  Eigen::VectorXd adapt_mean;     // d
+  Eigen::MatrixXd adapt_scatter;  // d × d: Σ (ψ − mean)(ψ − mean)ᵀ
+};
+
+struct ChainState {
+  Rng rng;
+  std::vector<Replica> replicas;  // coldest first
+  std::vector<int64_t> swap_attempts, swap_accepts;  // per neighbour pair (k, k + 1)
+};
+
+// The best hypothesis scored at `level` (reset when the level changes).
+struct Best {
+  bool valid = false;
+  int level = 0;
+  std::vector<double> psi;
+  double log_prior = -kInf, log_likelihood = -kInf;
+  double log_posterior() const { return valid ? log_prior + log_likelihood : -kInf; }
+};
+
+// Gradient refinement: BFGS ascent on the untempered log posterior at level 0, from the
+// best hypothesis of the sampling, with the posterior covariance as first inverse Hessian.
+struct RefineState {
+  int step = 0;
+  bool have_point = false;        // psi/gradient hold an evaluated point
+  std::vector<double> psi;        // the current (accepted) point
+  double log_prior = -kInf, log_likelihood = -kInf;
+  std::vector<double> gradient;   // of the log posterior at psi
+  Eigen::MatrixXd inverse_hessian;
+  std::vector<double> candidate;  // evaluated by the next frame
+  double step_scale = 1.0;        // fraction of the quasi-Newton step; shrinks on failure
+};
+
+struct State {
+  SamplerOptions options;
+  std::vector<ParameterSpec> parameters;
+  int target_levels = 1;  // levels() of the target the run started with
+
+  Phase phase = Phase::Start;
+  int64_t frame = 0, evaluations = 0;
+  int iteration = 0;  // sampling iterations done
+  int level = 0;      // current likelihood level
+  std::vector<ChainState> chains;
+  Best best;
+  double sampling_best = -kInf;  // best log posterior when sampling ended
+  RefineState refine;
+  std::vector<Sample> samples;  // iteration-major: all chains of iteration 0, then 1, …
+
+  int dimension() const { return int(parameters.size()); }
+  int batch() const { return options.chains * options.temperatures; }
+  int Levels() const;                     // levels the schedule uses
+  int ScheduledLevel(int iteration) const;
+  double AnnealTemperature(int iteration) const;  // of the coldest replicas
+  double Temperature(int iteration, int replica) const;
+  int AdaptStart() const;                 // first iteration whose states adaptation collects
+  // Records an evaluated hypothesis as the best so far at the current level if it is.
+  void ConsiderBest(const std::vector<double>& psi, double log_prior, double log_likelihood);
+};
+
+// A fresh state: starting points (with jitter) and RNG streams; nothing evaluated yet.
+State InitialState(const SamplerOptions& options, const std::vector<ParameterSpec>& parameters,
+                   int target_levels);
+
+// Evaluates a batch of any size (split into calls of at most the target's batch), turning
+// NaN and ±∞ into −∞ and counting evaluations.
+using BatchEvaluator = std::function<std::vector<double>(const std::vector<std::vector<double>>&)>;
+
+// Refinement.cpp
+void StartRefinement(State& state);
+void RefineFrame(State& state, const BatchEvaluator& evaluate);
+
+// Checkpoint.cpp. StateFromJson throws std::invalid_argument naming what is wrong.
+nlohmann::json StateToJson(const State& state);
+State StateFromJson(const nlohmann::json& json);
+nlohmann::json JsonNumber(double value);  // non-finite values as "nan", "inf", "-inf"
+double ReadNumber(const nlohmann::json& json);
+
+// Summary.cpp
+SamplerSummary Summarise(const State& state);
+// Post-burn-in states of the coldest replicas: [parameter][chain][draw].
+std::vector<std::vector<std::vector<double>>> PosteriorDraws(const State& state);
+
+}  // namespace vkr::opt::detail

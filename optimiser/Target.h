@@ -1,0 +1,49 @@
+#pragma once
+// What the sampler samples: a function from a batch of hypotheses Ψ (each a vector in the
+// order of the ParameterSpec list) to their log-likelihoods. The GPU likelihoods of
+// pipelines/ are wrapped in one by apps/; tests use FunctionTarget.
+
+#include <cstdint>
+#include <functional>
+#include <vector>
+
+namespace vkr::opt {
+
+class Target {
+ public:
+  virtual ~Target() = default;
+
+  // The most hypotheses one Evaluate() takes (K). The sampler never passes more.
+  virtual int max_batch() const = 0;
+  // Resolution levels (pyramid levels): 0 is the finest and the one the posterior is
+  // defined at; coarser levels (§7.3) smooth the likelihood for the early iterations.
+  virtual int levels() const { return 1; }
+  // Level of the following evaluations, in [0, levels()).
+  virtual void SetLevel(int level) { (void)level; }
+
+  // One log-likelihood per hypothesis (without the prior). NaN or ±∞ marks a hypothesis
+  // that cannot be scored: the sampler rejects it. Must return batch.size() values.
+  virtual std::vector<double> Evaluate(const std::vector<std::vector<double>>& batch) = 0;
+};
+
+// A target from a plain function of (Ψ, level), evaluated one hypothesis at a time.
+class FunctionTarget : public Target {
+ public:
+  using Function = std::function<double(const std::vector<double>& psi, int level)>;
+  FunctionTarget(Function function, int max_batch, int levels = 1);
+
+  int max_batch() const override { return max_batch_; }
+  int levels() const override { return levels_; }
+  void SetLevel(int level) override;
+  int level() const { return level_; }
+  // Throws std::logic_error for a batch larger than max_batch.
+  std::vector<double> Evaluate(const std::vector<std::vector<double>>& batch) override;
+
+ private:
+  Function function_;
+  int max_batch_ = 1;
+  int levels_ = 1;
+  int level_ = 0;
+};
+
+}  // namespace vkr::opt
