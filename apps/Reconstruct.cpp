@@ -1,0 +1,270 @@
+#include "apps/Reconstruct.h"
+
+#include <unistd.h>
+
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <iostream>
+#include <nlohmann/json.hpp>
+
+#include "engine/common/InputError.h"
+#include "engine/geometry/SceneGeometry.h"
+#include "optimiser/Sampler.h"
+#include "pipelines/LikelihoodTool.h"
+#include "pipelines/ModelExport.h"
+#include "pipelines/SurfaceLikelihood.h"
+
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+
+namespace vkr::app {
+namespace {
+
+std::atomic<bool> g_stop{false};
+
+// The sampler's view of a likelihood: a batch of Ψ in, log likelihood + occlusion prior out.
+class LikelihoodTarget : public opt::Target {
+ public:
+  explicit LikelihoodTarget(Likelihood& likelihood) : likelihood_(likelihood) {}
+  int max_batch() const override { return likelihood_.max_batch(); }
+  int levels() const override { return likelihood_.levels(); }
+  void SetLevel(int level) override { likelihood_.SetLevel(level); }
+  std::vector<double> Evaluate(const std::vector<std::vector<double>>& batch) override {
+    std::vector<double> out;
+    for (const Evaluation& e : likelihood_.Evaluate(batch)) out.push_back(e.total());
+    return out;
+  }
+
+ private:
+  Likelihood& likelihood_;
+};
+
+std::vector<opt::ParameterSpec> ParameterSpecs(const Scene& scene) {
+  std::vector<opt::ParameterSpec> specs;
+  for (const Parameter& p : scene.parameters) {
+    opt::ParameterSpec s;
+    s.name = p.name;
+    s.prior = p.prior.kind == Prior::Kind::Uniform ? opt::PriorKind::Uniform : opt::PriorKind::Normal;
+    s.a = p.prior.a;
+    s.b = p.prior.b;
+    s.bounds = p.bounds;
+    s.init = p.init;
+    specs.push_back(s);
+  }
+  return specs;
+}
+
+// Writes through a temporary file and a rename: a run killed mid-write leaves the previous
+// checkpoint intact.
+void WriteAtomically(const fs::path& file, const std::string& text) {
+  const fs::path tmp = file.string() + ".tmp";
+  {
+    std::ofstream out(tmp, std::ios::binary);
+    out << text;
+    if (!out) throw std::runtime_error("cannot write " + tmp.string());
+  }
+  fs::rename(tmp, file);
+}
+
+std::string Duration(double seconds) {
+  if (!std::isfinite(seconds) || seconds < 0) return "?";
+  char buf[32];
+  if (seconds < 60) std::snprintf(buf, sizeof buf, "%.0fs", seconds);
+  else std::snprintf(buf, sizeof buf, "%dm%02ds", int(seconds) / 60, int(seconds) % 60);
+  return buf;
+}
+
+// One progress line on stderr: redrawn in place on a terminal, every 10 % otherwise.
+class ProgressBar {
+ public:
+  explicit ProgressBar(bool quiet) : quiet_(quiet), tty_(isatty(2)), start_(Clock::now()) {}
+  void Update(const opt::Progress& p) {
+    if (quiet_) return;
+    const double done = p.iterations > 0 ? double(p.iteration) / p.iterations : 1.0;
+    const auto now = Clock::now();
+    const int decile = int(done * 10);
+    if (tty_ ? now - last_ < std::chrono::milliseconds(200) : decile == last_decile_) return;
+    last_ = now;
+    last_decile_ = decile;
+    const double elapsed = std::chrono::duration<double>(now - start_).count();
+    const double eta = done > 0.01 ? elapsed * (1 - done) / done : NAN;
+    const int width = 24, filled = int(done * width);
+    char line[256];
+    std::snprintf(line, sizeof line, "[%s%s] it %d/%d  level %d  T %.2f  best log post %.1f  acc %.2f  ETA %s",
+                  std::string(filled, '#').c_str(), std::string(width - filled, ' ').c_str(), p.iteration,
+                  p.iterations, p.level, p.temperature, p.best_log_posterior, p.acceptance, Duration(eta).c_str());
+    std::cerr << (tty_ ? "\r" : "") << line << (tty_ ? "" : "\n") << std::flush;
+  }
+  void Finish() {
+    if (!quiet_ && tty_) std::cerr << "\n";
+  }
+
+ private:
+  bool quiet_, tty_;
+  Clock::time_point start_, last_{};
+  int last_decile_ = -1;
+};
+
+// Before spending minutes: can the cameras see the scene at all?
+void PreflightVisibility(const Scene& scene, Likelihood& likelihood) {
+  const Evaluation e = likelihood.Evaluate({scene.InitialValues()})[0];
+  if (e.scalars.seen_multi == 0)
+    throw InputError(scene.file.string(), "cameras",
+                     "at the initial parameters no surface point is seen by two cameras: the cameras "
+                     "see nothing of the scene (check poses, priors and images)");
+}
+
+// What the numbers at the MAP say about the fit, in sentences.
+std::vector<std::string> Diagnose(const Scene& scene, const Evaluation& at_map, const opt::SamplerSummary& s,
+                                  bool* ok) {
+  std::vector<std::string> notes;
+  *ok = true;
+  const double sigma = scene.likelihood.sigma / 255.0;
+  const double chi2 = at_map.scalars.dof > 0 ? at_map.scalars.sum_squares / (sigma * sigma) / at_map.scalars.dof : NAN;
+  const double surface = double(at_map.scalars.seen_multi) + at_map.scalars.seen_once + at_map.scalars.seen_none;
+  if (!(at_map.scalars.seen_multi > 0.05 * surface)) {
+    *ok = false;
+    notes.push_back("less than 5 % of the surface is seen by two cameras at the MAP: the images show little of the scene");
+  }
+  if (!(chi2 < 4.0)) {
+    *ok = false;
+    char buf[200];
+    std::snprintf(buf, sizeof buf,
+                  "the views disagree far beyond the noise at the MAP (chi2 per dof %.2f with sigma %.1f): the "
+                  "model does not explain the images",
+                  chi2, scene.likelihood.sigma);
+    notes.push_back(buf);
+  }
+  for (size_t i = 0; i < s.parameters.size() && i < scene.parameters.size(); ++i) {
+    const Prior& prior = scene.parameters[i].prior;
+    const double prior_sd = prior.kind == Prior::Kind::Uniform ? (prior.b - prior.a) / std::sqrt(12.0) : prior.b;
+    if (s.parameters[i].sd > 0.5 * prior_sd)
+      notes.push_back(s.parameters[i].name + " is barely constrained by the images (posterior sd " +
+                      std::to_string(s.parameters[i].sd) + " against the prior's " + std::to_string(prior_sd) + ")");
+    if (s.parameters[i].rhat > 1.1)
+      notes.push_back(s.parameters[i].name + ": the chains disagree (R-hat " + std::to_string(s.parameters[i].rhat) +
+                      "); run longer");
+  }
+  return notes;
+}
+
+}  // namespace
+
+void RequestStop() { g_stop = true; }
+
+ReconstructResult Reconstruct(const ReconstructOptions& options, vk::Device& device) {
+  const Scene scene = LoadScene(options.scene_file, options.overrides);
+  if (scene.parameters.empty())
+    throw InputError(scene.file.string(), "parameters", "nothing to reconstruct: the scene declares no parameter");
+  fs::create_directories(options.output_dir);
+  const fs::path checkpoint_file = options.output_dir / "checkpoint.json";
+
+  LikelihoodSetup setup;
+  setup.max_batch = scene.sampler.batch;
+  std::unique_ptr<Likelihood> likelihood = MakeLikelihood(device, scene, setup);
+  LikelihoodTarget target(*likelihood);
+
+  opt::SamplerOptions sampler_options;
+  sampler_options.iterations = scene.sampler.iterations;
+  sampler_options.chains = scene.sampler.chains;
+  sampler_options.seed = scene.sampler.seed;
+  sampler_options.temperatures =
+      options.temperatures > 0 ? options.temperatures : std::max(1, scene.sampler.batch / scene.sampler.chains);
+  sampler_options.coarse_levels = likelihood->levels();
+
+  std::unique_ptr<opt::Sampler> sampler;
+  if (options.resume) {
+    std::ifstream in(checkpoint_file);
+    if (!in) throw InputError(checkpoint_file.string(), "", "no checkpoint to resume from");
+    nlohmann::json state;
+    try {
+      in >> state;
+      sampler = std::make_unique<opt::Sampler>(state, target);
+    } catch (const std::exception& e) {
+      throw InputError(checkpoint_file.string(), "", std::string("cannot resume: ") + e.what());
+    }
+    const auto& names = sampler->parameters();
+    for (size_t i = 0; i < names.size() || i < scene.parameters.size(); ++i)
+      if (i >= names.size() || i >= scene.parameters.size() || names[i].name != scene.parameters[i].name)
+        throw InputError(checkpoint_file.string(), "parameters", "the checkpoint is of another scene");
+  } else {
+    std::string why;
+    if (!opt::ValidateProblem(sampler_options, ParameterSpecs(scene), target, &why))
+      throw InputError(scene.file.string(), "sampler", why);
+    PreflightVisibility(scene, *likelihood);
+    sampler = std::make_unique<opt::Sampler>(sampler_options, ParameterSpecs(scene), target);
+  }
+
+  ProgressBar bar(options.quiet);
+  auto last_checkpoint = Clock::now();
+  opt::SamplerCallbacks callbacks;
+  callbacks.on_frame = [&](const opt::Progress& p) {
+    bar.Update(p);
+    opt::FrameRequest r;
+    r.stop = g_stop.load();
+    r.checkpoint = r.stop || Clock::now() - last_checkpoint > std::chrono::duration<double>(options.checkpoint_seconds);
+    return r;
+  };
+  callbacks.on_checkpoint = [&](const nlohmann::json& state) {
+    WriteAtomically(checkpoint_file, state.dump());
+    last_checkpoint = Clock::now();
+  };
+  opt::SamplerSummary summary;
+  opt::Run(*sampler, &summary, callbacks);
+  bar.Finish();
+
+  ReconstructResult result;
+  if (summary.termination == opt::Termination::Failed) throw std::runtime_error("sampler failed: " + summary.message);
+  if (summary.termination == opt::Termination::Stopped) {
+    WriteAtomically(checkpoint_file, sampler->Checkpoint().dump());
+    return result;  // interrupted: the checkpoint is the output
+  }
+  result.completed = true;
+  result.map = summary.map;
+  WriteAtomically(checkpoint_file, sampler->Checkpoint().dump());
+
+  // Outputs at the MAP, from a surface likelihood at full resolution (its composite is the
+  // model's texture whichever likelihood sampled).
+  likelihood.reset();
+  SurfaceLikelihoodOptions surface = SurfaceLikelihoodOptions::FromScene(scene);
+  surface.max_batch = 1;
+  SurfaceLikelihood outputs(device, scene, surface);
+  Evaluation at_map;
+  const SurfaceDump dump = outputs.EvaluateAndDump(summary.map, &at_map);
+  result.notes = Diagnose(scene, at_map, summary, &result.diagnosis_ok);
+
+  nlohmann::json map = opt::MapJson(summary);
+  map["settings"] = {{"scene", fs::absolute(options.scene_file).string()},
+                     {"overrides", nlohmann::json::array()},
+                     {"device", device.name()},
+                     {"likelihood", {{"kind", scene.likelihood.kind}, {"sigma", scene.likelihood.sigma},
+                                     {"weights", scene.likelihood.weights}, {"atlas", scene.likelihood.atlas},
+                                     {"levels", scene.likelihood.levels}}},
+                     {"sampler", opt::ToJson(sampler_options)}};
+  for (const SceneOverride& o : options.overrides) map["settings"]["overrides"].push_back(o.path + "=" + o.value);
+  map["diagnosis"] = {{"ok", result.diagnosis_ok}, {"notes", result.notes},
+                      {"chi2_per_dof", at_map.scalars.dof > 0 ? at_map.scalars.sum_squares /
+                                                                    std::pow(scene.likelihood.sigma / 255.0, 2) /
+                                                                    at_map.scalars.dof
+                                                              : 0.0}};
+  result.map_json = options.output_dir / "map.json";
+  WriteAtomically(result.map_json, map.dump(2) + "\n");
+  {
+    std::ofstream csv(options.output_dir / "chain.csv");
+    csv.imbue(std::locale::classic());
+    opt::WriteChainCsv(csv, summary.chain, sampler->parameters());
+  }
+  const Image composite = DilateAtlas(dump.composite);
+  WriteExr(options.output_dir / "composite.exr", composite);
+  WritePng(options.output_dir / "composite.png", composite);
+  const SceneGeometry geometry = BuildSceneGeometry(scene, scene.InitialValues(), surface.atlas);
+  WriteTexturedGlb(options.output_dir / "model.glb", scene, geometry, summary.map, composite);
+  WriteReprojections(options.output_dir / "reprojections", device, scene, geometry, summary.map, composite);
+  if (!options.quiet) std::cerr << summary.BriefReport() << "\n";
+  return result;
+}
+
+}  // namespace vkr::app

@@ -1,0 +1,41 @@
+#pragma once
+// `vkrecon run`: photographs and a scene description in; a reconstructed, textured,
+// parametric model with honest uncertainty out (DESIGN.md, "The optimiser"). This is the one
+// place where the sampler (optimiser/, no Vulkan) meets the likelihood (pipelines/).
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "engine/scene/Scene.h"
+#include "engine/vk/Device.h"
+
+namespace vkr::app {
+
+struct ReconstructOptions {
+  std::filesystem::path scene_file;
+  std::vector<SceneOverride> overrides;
+  std::filesystem::path output_dir;
+  bool resume = false;             // continue from output_dir/checkpoint.json
+  bool quiet = false;              // no progress bar
+  double checkpoint_seconds = 5.0; // how often the state is saved
+  int temperatures = 0;            // replicas per chain; 0: sampler.batch / sampler.chains
+};
+
+struct ReconstructResult {
+  bool completed = false;          // false: stopped (interrupted); resume to finish
+  bool diagnosis_ok = true;        // false: the fit does not explain the images (see notes)
+  std::vector<std::string> notes;  // the diagnosis, one sentence each
+  std::vector<double> map;         // the MAP hypothesis
+  std::filesystem::path map_json;
+};
+
+// Runs (or resumes) the reconstruction and writes OUT/map.json, chain.csv, composite.exr
+// (+ .png), model.glb and reprojections/. Throws InputError for bad input, including a scene
+// whose cameras see nothing of it at the initial parameters.
+ReconstructResult Reconstruct(const ReconstructOptions& options, vk::Device& device);
+
+// Asks a running Reconstruct to checkpoint and stop after the current frame (SIGINT).
+void RequestStop();
+
+}  // namespace vkr::app

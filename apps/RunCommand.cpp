@@ -1,0 +1,48 @@
+#include <csignal>
+#include <iostream>
+
+#include "apps/Commands.h"
+#include "apps/Reconstruct.h"
+
+namespace vkr::app {
+
+int RunRun(int argc, char** argv) {
+  CLI::App app(
+      "Reconstruct: sample the scene's parameters against its photographs (Metropolis-Hastings "
+      "with annealing and replica exchange, coarse to fine, then gradient refinement) and write "
+      "OUT/map.json (MAP, posterior mean, sd, 95 % interval, ESS, R-hat), chain.csv, "
+      "composite.exr/.png, model.glb (textured; opens in Blender) and reprojections/. The state "
+      "is saved every few seconds: an interrupted run continues with --resume.",
+      "run");
+  SceneArgs scene;
+  ReconstructOptions options;
+  std::string out;
+  AddSceneArgs(app, scene);
+  app.add_option("-o,--output", out, "output folder")->required();
+  app.add_flag("--resume", options.resume, "continue the run saved in OUT/checkpoint.json");
+  app.add_flag("-q,--quiet", options.quiet, "no progress bar");
+  app.add_option("--checkpoint-seconds", options.checkpoint_seconds, "seconds between checkpoints (default 5)");
+  app.add_option("--temperatures", options.temperatures,
+                 "tempered replicas per chain (default sampler.batch / sampler.chains)");
+  if (auto status = Parse(app, argc, argv)) return *status;
+  options.scene_file = scene.scene;
+  options.overrides = ParseOverrides(scene.sets);
+  options.output_dir = out;
+  auto device = OpenDevice(scene.device);
+  std::signal(SIGINT, [](int) { RequestStop(); });
+  const ReconstructResult result = Reconstruct(options, *device);
+  if (!result.completed) {
+    std::cerr << "vkrecon run: interrupted; continue with: vkrecon run " << scene.scene << " -o " << out
+              << " --resume\n";
+    return FinishWithDevice(*device, 1);
+  }
+  for (const std::string& note : result.notes) std::cerr << "vkrecon run: note: " << note << "\n";
+  if (!options.quiet) std::cerr << "vkrecon run: wrote " << out << "/ (map.json, chain.csv, composite.exr, model.glb, reprojections/)\n";
+  if (!result.diagnosis_ok) {
+    std::cerr << "vkrecon run: error: the result is not trustworthy (see the notes above and map.json's diagnosis)\n";
+    return FinishWithDevice(*device, 1);
+  }
+  return FinishWithDevice(*device, 0);
+}
+
+}  // namespace vkr::app
