@@ -1,0 +1,97 @@
+// `vkrecon run` as a user meets it: a run killed after a checkpoint resumes to exactly the
+// result of an uninterrupted run; a scene the cameras cannot see is refused up front.
+
+#include <gtest/gtest.h>
+#include <signal.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <thread>
+
+#include "tests/common/TestFiles.h"
+
+namespace vkr {
+namespace {
+
+namespace fs = std::filesystem;
+using test::RunCommand;
+
+const std::string kVkrecon = VKRECON_BINARY;
+const fs::path kBox = fs::path(VKRECON_SOURCE_DIR) / "assets/box";
+
+std::string Q(const fs::path& p) { return "'" + p.string() + "'"; }
+
+// A small, quick configuration of the box asset on images made in `dir`.
+std::string SmallRun(const test::TempDir& dir) {
+  return kVkrecon + " run -q " + Q(kBox / "scene.json") + " --set cameras=" + Q(dir / "images/cameras.json") +
+         " --set images=" + Q(dir / "images") +
+         " --set likelihood.atlas=64 --set likelihood.levels=2 --set sampler.iterations=80"
+         " --set sampler.chains=2 --set sampler.batch=4 --checkpoint-seconds 0.05";
+}
+
+nlohmann::json ReadJson(const fs::path& file) { return nlohmann::json::parse(test::ReadText(file)); }
+
+TEST(RunCli, KilledRunResumesToTheSameResult) {
+  test::TempDir dir;
+  ASSERT_EQ(RunCommand(kVkrecon + " synth -q " + Q(kBox / "scene.json") + " --at " + Q(kBox / "truth.json") +
+                       " --scale 0.25 --noise 8 -o " + Q(dir / "images"))
+                .exit_status,
+            0);
+  const auto straight = RunCommand(SmallRun(dir) + " -o " + Q(dir / "straight"));
+  ASSERT_EQ(straight.exit_status, 0) << straight.err;
+
+  // Start the same run, kill it hard once it has saved a checkpoint, then resume.
+  const fs::path out = dir / "killed";
+  const std::string start = SmallRun(dir) + " -o " + Q(out) + " >/dev/null 2>&1 & echo $!";
+  FILE* pipe = popen(start.c_str(), "r");
+  ASSERT_NE(pipe, nullptr);
+  int pid = 0;
+  ASSERT_EQ(fscanf(pipe, "%d", &pid), 1);
+  pclose(pipe);
+  bool saw_checkpoint = false;
+  for (int i = 0; i < 600 && !saw_checkpoint; ++i) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    saw_checkpoint = fs::exists(out / "checkpoint.json");
+  }
+  ASSERT_TRUE(saw_checkpoint);
+  kill(pid, SIGKILL);
+  std::this_thread::sleep_for(std::chrono::milliseconds(200));
+  ASSERT_FALSE(fs::exists(out / "map.json")) << "the run finished before it was killed; nothing was tested";
+
+  const auto resumed = RunCommand(SmallRun(dir) + " -o " + Q(out) + " --resume");
+  ASSERT_EQ(resumed.exit_status, 0) << resumed.err;
+  const nlohmann::json a = ReadJson(dir / "straight/map.json"), b = ReadJson(out / "map.json");
+  EXPECT_EQ(a["parameters"], b["parameters"]);  // bit-identical numbers
+  EXPECT_EQ(test::ReadText(dir / "straight/chain.csv"), test::ReadText(out / "chain.csv"));
+  for (const char* f : {"composite.exr", "composite.png", "model.glb", "chain.csv"}) EXPECT_TRUE(fs::exists(out / f)) << f;
+}
+
+TEST(RunCli, CamerasThatSeeNothingAreRefusedWithAReason) {
+  test::TempDir dir;
+  ASSERT_EQ(RunCommand(kVkrecon + " synth -q " + Q(kBox / "scene.json") + " --at " + Q(kBox / "truth.json") +
+                       " --scale 0.25 -o " + Q(dir / "images"))
+                .exit_status,
+            0);
+  // Move the whole scene 100 m away from every camera.
+  const auto r = RunCommand(SmallRun(dir) + " --set 'nodes[0].transforms=[{\"translate\": [100, 0, 0]}, {\"scale\": [5, 5, 1]}]'"
+                            " --set 'nodes[1].transforms=[{\"translate\": [\"x+100\", \"y\", 0]}, {\"rotate\": [0, 0, \"yaw\"]}, {\"scale\": [\"w\", \"d\", \"h\"]}]'"
+                            " -o " + Q(dir / "out"));
+  EXPECT_EQ(r.exit_status, 2) << r.err;
+  EXPECT_NE(r.err.find("see nothing"), std::string::npos) << r.err;
+}
+
+TEST(RunCli, ResumeWithoutACheckpointIsBadInput) {
+  test::TempDir dir;
+  ASSERT_EQ(RunCommand(kVkrecon + " synth -q " + Q(kBox / "scene.json") + " --at " + Q(kBox / "truth.json") +
+                       " --scale 0.25 -o " + Q(dir / "images"))
+                .exit_status,
+            0);
+  const auto r = RunCommand(SmallRun(dir) + " --resume -o " + Q(dir / "none"));
+  EXPECT_EQ(r.exit_status, 2) << r.err;
+  EXPECT_NE(r.err.find("checkpoint"), std::string::npos) << r.err;
+}
+
+}  // namespace
+}  // namespace vkr
