@@ -252,6 +252,7 @@ ReconstructResult Reconstruct(const ReconstructOptions& options, vk::Device& dev
                                                               : 0.0}};
   result.map_json = options.output_dir / "map.json";
   WriteAtomically(result.map_json, map.dump(2) + "\n");
+  scene.WriteValues(options.output_dir / "at_map.json", summary.map);  // for render --at
   {
     std::ofstream csv(options.output_dir / "chain.csv");
     csv.imbue(std::locale::classic());

@@ -30,8 +30,8 @@ struct ReconstructResult {
   std::filesystem::path map_json;
 };
 
-// Runs (or resumes) the reconstruction and writes OUT/map.json, chain.csv, composite.exr
-// (+ .png), model.glb and reprojections/. Throws InputError for bad input, including a scene
+// Runs (or resumes) the reconstruction and writes OUT/map.json, at_map.json (the MAP as an
+// `--at` file), chain.csv, composite.exr (+ .png), model.glb and reprojections/. Throws InputError for bad input, including a scene
 // whose cameras see nothing of it at the initial parameters.
 ReconstructResult Reconstruct(const ReconstructOptions& options, vk::Device& device);
 

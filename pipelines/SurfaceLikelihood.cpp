@@ -53,15 +53,19 @@ SurfaceLikelihoodOptions SurfaceLikelihoodOptions::FromScene(const Scene& scene)
   return o;
 }
 
-namespace {
-
-constexpr int kTimestampsPerHypothesis = 5;  // start, depth, view, interior, composite
+namespace surface_detail {
 
 // One camera's images on the GPU.
 struct CameraImages {
   vk::GpuImage reference;           // RGBA8, encoded colour, mip m = pyramid level m
   std::vector<vk::GpuImage> depth;  // D32F, one per likelihood level
 };
+
+}  // namespace surface_detail
+
+namespace {
+
+constexpr int kTimestampsPerHypothesis = 5;  // start, depth, view, interior, composite
 
 // Mips for a prefiltered reference: the pyramid down to a few pixels, each level cropped to
 // Vulkan's mip size max(1, n >> m) (the pyramid rounds up; a partial last row or column
@@ -95,7 +99,7 @@ struct SurfaceLikelihood::Impl {
   vk::Transfer transfer;
   vk::CommandContext context;
   GpuScene gpu_scene;
-  std::vector<CameraImages> cameras;
+  std::vector<surface_detail::CameraImages> cameras;
   vk::GpuImage views, mask;
   std::vector<vk::ImageView> view_layers;
   DepthPass depth_pass;
@@ -222,7 +226,7 @@ SurfaceLikelihood::SurfaceLikelihood(vk::Device& device, const Scene& scene,
                        cam.image.string() + " is " + std::to_string(image.width) + "×" +
                            std::to_string(image.height) + " but the camera says " +
                            std::to_string(cam.width) + "×" + std::to_string(cam.height));
-    CameraImages images;
+    surface_detail::CameraImages images;
     const std::vector<std::vector<uint8_t>> mips = ReferenceMips(image);
     vk::GpuImageInfo info{uint32_t(image.width), uint32_t(image.height), 1, VK_FORMAT_R8G8B8A8_UNORM,
                           VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT};
