@@ -9,6 +9,7 @@
 #include <fstream>
 #include <iostream>
 #include <nlohmann/json.hpp>
+#include <random>
 
 #include "engine/common/InputError.h"
 #include "engine/geometry/SceneGeometry.h"
@@ -108,6 +109,34 @@ class ProgressBar {
   int last_decile_ = -1;
 };
 
+// The annealing's starting temperature, from the data: at T₀ the log-likelihood should vary
+// across the prior by about the number of parameters, so the first iterations can roam. A
+// fixed T₀ is far too cold for photographs, whose log-likelihood spans 10⁴–10⁵ nats
+// across the prior at full resolution. Scored at the coarsest level, where sampling starts.
+double InitialTemperature(const Scene& scene, Likelihood& likelihood) {
+  std::mt19937_64 rng(scene.sampler.seed);
+  std::vector<std::vector<double>> draws(size_t(likelihood.max_batch()), scene.InitialValues());
+  for (auto& psi : draws)
+    for (size_t i = 0; i < psi.size(); ++i) {
+      const Parameter& p = scene.parameters[i];
+      const double u = double(rng() >> 11) * 0x1.0p-53;
+      const double x = p.prior.kind == Prior::Kind::Uniform ? p.prior.a + u * (p.prior.b - p.prior.a)
+                                                            : p.prior.a + p.prior.b * 2.0 * (u - 0.5) * 1.7;
+      if (p.Admissible(x)) psi[i] = x;
+    }
+  const int level = likelihood.level();
+  likelihood.SetLevel(likelihood.levels() - 1);
+  std::vector<double> values;
+  for (const Evaluation& e : likelihood.Evaluate(draws))
+    if (std::isfinite(e.total())) values.push_back(e.total());
+  likelihood.SetLevel(level);
+  if (values.size() < 2) return 10.0;
+  double mean = 0.0, var = 0.0;
+  for (double v : values) mean += v / values.size();
+  for (double v : values) var += (v - mean) * (v - mean) / (values.size() - 1);
+  return std::clamp(std::sqrt(var) / double(scene.parameters.size()), 10.0, 1e6);
+}
+
 // Before spending minutes: can the cameras see the scene at all?
 void PreflightVisibility(const Scene& scene, Likelihood& likelihood) {
   const Evaluation e = likelihood.Evaluate({scene.InitialValues()})[0];
@@ -195,6 +224,7 @@ ReconstructResult Reconstruct(const ReconstructOptions& options, vk::Device& dev
     if (!opt::ValidateProblem(sampler_options, ParameterSpecs(scene), target, &why))
       throw InputError(scene.file.string(), "sampler", why);
     PreflightVisibility(scene, *likelihood);
+    sampler_options.initial_temperature = InitialTemperature(scene, *likelihood);
     sampler = std::make_unique<opt::Sampler>(sampler_options, ParameterSpecs(scene), target);
   }
 
