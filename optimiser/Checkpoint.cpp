@@ -104,6 +104,7 @@ json StateToJson(const State& s) {
                                    {"log_likelihood", JsonNumber(r.log_likelihood)},
                                    {"proposed", r.proposed},
                                    {"accepted", r.accepted},
+                                   {"log_scale", JsonNumber(r.log_scale)},
                                    {"adapt_count", r.adapt_count},
                                    {"adapt_mean", Vector(r.adapt_mean)},
                                    {"adapt_scatter", Matrix(r.adapt_scatter)}});
@@ -194,6 +195,7 @@ State StateFromJson(const json& j) {
         r.log_likelihood = ReadNumber(jr.at("log_likelihood"));
         r.proposed = jr.at("proposed").get<int64_t>();
         r.accepted = jr.at("accepted").get<int64_t>();
+        r.log_scale = ReadNumber(jr.at("log_scale"));
         r.adapt_count = jr.at("adapt_count").get<int64_t>();
         r.adapt_mean = ReadVector(jr.at("adapt_mean"), d);
         r.adapt_scatter = ReadMatrix(jr.at("adapt_scatter"), d);

@@ -192,7 +192,7 @@ struct Engine {
       }
     }
     if (!adapted) {
-      const double f = std::min(s.options.proposal_scale * std::sqrt(temperature), 1.0);
+      const double f = std::min(s.options.proposal_scale * std::sqrt(temperature) * std::exp(r.log_scale), 1.0);
       for (int i = 0; i < d; ++i) step[i] = f * s.parameters[i].Width() * z[i];
     }
     std::vector<double> psi = r.psi;
@@ -234,11 +234,18 @@ struct Engine {
         ++r.proposed;
         const double log_u = std::log(chain.rng.UniformOpen());
         const double lp = proposal_prior[i], ll = values[i];
-        if (!std::isfinite(lp) || !std::isfinite(ll)) continue;
-        s.ConsiderBest(proposals[i], lp, ll);
+        const bool scored = std::isfinite(lp) && std::isfinite(ll);
         const double current = r.log_prior + r.log_likelihood / temperature[k];
         const double proposed = lp + ll / temperature[k];
-        if (current == -kInf || log_u < proposed - current) {
+        const bool accept = scored && (current == -kInf || log_u < proposed - current);
+        if (t < s.options.BurnIn()) {
+          // Robbins–Monro towards 0.234 acceptance (Replica::log_scale), burn-in only.
+          const double gain = 1.0 / std::sqrt(double(r.proposed));
+          r.log_scale = std::clamp(r.log_scale + gain * ((accept ? 1.0 : 0.0) - 0.234), -12.0, 3.0);
+        }
+        if (!scored) continue;
+        s.ConsiderBest(proposals[i], lp, ll);
+        if (accept) {
           r.psi = std::move(proposals[i]);
           r.log_prior = lp;
           r.log_likelihood = ll;

@@ -30,6 +30,10 @@ struct Replica {
   double log_prior = -kInf;
   double log_likelihood = -kInf;  // at the current level
   int64_t proposed = 0, accepted = 0;
+  // Log factor on the proposal scale, tuned during burn-in towards an acceptance of 0.234
+  // (Robbins–Monro) and frozen after it; photographs make posteriors far narrower than a
+  // fixed fraction of the prior width, and a too-wide walk accepts almost nothing.
+  double log_scale = 0.0;
   // Welford accumulators of the states collected for adaptation (Haario et al. 2001).
   int64_t adapt_count = 0;
   Eigen::VectorXd adapt_mean;     // d

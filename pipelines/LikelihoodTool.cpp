@@ -13,6 +13,7 @@
 
 #include "engine/common/InputError.h"
 #include "engine/image/LinePlot.h"
+#include "pipelines/ImageLikelihood.h"
 #include "pipelines/SurfaceLikelihood.h"
 
 namespace fs = std::filesystem;
@@ -53,6 +54,42 @@ class SurfaceAdapter final : public Likelihood {
 
  private:
   SurfaceLikelihood likelihood_;
+};
+
+// The image-space likelihood (§4) behind the common interface. A dump holds, per ordered
+// pair (s, t), the synthetic image s_{s,t} (t's view textured from r_s, thesis Figs 4.5–4.8)
+// and its consistency with r_t: `synthetic_<t>_from_<s>` and `consistency_<t>_from_<s>`.
+class ImageAdapter final : public Likelihood {
+ public:
+  ImageAdapter(vk::Device& device, const Scene& scene, const ImageLikelihoodOptions& options)
+      : likelihood_(device, scene, options) {}
+
+  std::string kind() const override { return "image"; }
+  const LikelihoodModel& model() const override { return likelihood_.options().model; }
+  int max_batch() const override { return likelihood_.options().max_batch; }
+  void SetLevel(int level) override { likelihood_.SetLevel(level); }
+  int level() const override { return likelihood_.level(); }
+  int levels() const override { return likelihood_.levels(); }
+  std::vector<Evaluation> Evaluate(const std::vector<std::vector<double>>& batch) override {
+    return likelihood_.Evaluate(batch);
+  }
+  std::map<std::string, double> LastPassTimesMs() const override { return likelihood_.LastPassTimesMs(); }
+
+  LikelihoodDump EvaluateAndDump(const std::vector<double>& psi, Evaluation* evaluation) override {
+    ImageDump image = likelihood_.EvaluateAndDump(psi, evaluation);
+    const std::vector<CameraModel>& cameras = likelihood_.scene().cameras;
+    LikelihoodDump dump;
+    for (ImagePairDump& d : image.pairs) {
+      const std::string pair =
+          cameras[size_t(d.pair.target)].name + "_from_" + cameras[size_t(d.pair.source)].name;
+      dump.images.push_back({"synthetic_" + pair, DumpImage::Kind::Colour, true, std::move(d.synthetic)});
+      dump.images.push_back({"consistency_" + pair, DumpImage::Kind::Deviation, true, std::move(d.consistency)});
+    }
+    return dump;
+  }
+
+ private:
+  ImageLikelihood likelihood_;
 };
 
 // A scene, the hypothesis of --at and a likelihood built for them; the likelihood may keep a
@@ -189,8 +226,15 @@ std::unique_ptr<Likelihood> MakeLikelihood(vk::Device& device, const Scene& scen
     if (!options.IsValid(&why)) throw InputError(scene.file.string(), "likelihood", why);
     return std::make_unique<SurfaceAdapter>(device, scene, options);
   }
-  if (kind == "image")
-    throw InputError(scene.file.string(), "likelihood.kind", "the image-space likelihood is not built yet");
+  if (kind == "image") {
+    ImageLikelihoodOptions options = ImageLikelihoodOptions::FromScene(scene);
+    options.model.chi2_correction = setup.chi2_correction;
+    options.max_batch = setup.max_batch;
+    options.profile = setup.profile;
+    std::string why;
+    if (!options.IsValid(&why)) throw InputError(scene.file.string(), "likelihood", why);
+    return std::make_unique<ImageAdapter>(device, scene, options);
+  }
   throw InputError(scene.file.string(), "likelihood.kind", "unknown kind '" + kind + "' (surface, image)");
 }
 

@@ -14,6 +14,7 @@
 #include "pipelines/HalfFloat.h"
 #include "pipelines/InteriorPass.h"
 #include "pipelines/Projection.h"
+#include "pipelines/ReferenceImages.h"
 #include "pipelines/ViewTexturePass.h"
 
 namespace vkr {
@@ -67,27 +68,6 @@ namespace {
 
 constexpr int kTimestampsPerHypothesis = 5;  // start, depth, view, interior, composite
 
-// Mips for a prefiltered reference: the pyramid down to a few pixels, each level cropped to
-// Vulkan's mip size max(1, n >> m) (the pyramid rounds up; a partial last row or column
-// of a level is dropped).
-std::vector<std::vector<uint8_t>> ReferenceMips(const Image& image) {
-  int count = 1;
-  while ((std::min(image.width, image.height) >> count) >= 4) ++count;
-  std::vector<std::vector<uint8_t>> mips;
-  for (Image& level : BuildPyramid(image, count)) {
-    StoreGradientInAlpha(level);  // the noise model's |∇I| (Pyramid.h), free to sample with the colour
-    const int m = int(mips.size());
-    const int w = std::max(1, image.width >> m), h = std::max(1, image.height >> m);
-    std::vector<uint8_t> bytes(size_t(w) * h * 4);
-    for (int y = 0; y < h; ++y)
-      for (int x = 0; x < w; ++x)
-        for (int c = 0; c < 4; ++c)
-          bytes[(size_t(y) * w + x) * 4 + c] =
-              uint8_t(std::lround(std::clamp(level.At(x, y)[c], 0.0f, 1.0f) * 255.0f));
-    mips.push_back(std::move(bytes));
-  }
-  return mips;
-}
 
 }  // namespace
 
@@ -219,22 +199,9 @@ SurfaceLikelihood::SurfaceLikelihood(vk::Device& device, const Scene& scene,
   Impl& m = *impl_;
   const int levels = options.levels, n = int(scene.cameras.size());
   for (int i = 0; i < n; ++i) {
-    const CameraModel& cam = scene.cameras[i];
-    const Image image = LoadImage(cam.image);
-    if (image.width != cam.width || image.height != cam.height)
-      throw InputError(scene.file.string(), "cameras[" + std::to_string(i) + "].image",
-                       cam.image.string() + " is " + std::to_string(image.width) + "×" +
-                           std::to_string(image.height) + " but the camera says " +
-                           std::to_string(cam.width) + "×" + std::to_string(cam.height));
+    const Image image = LoadCameraImage(scene, i, levels);
     surface_detail::CameraImages images;
-    const std::vector<std::vector<uint8_t>> mips = ReferenceMips(image);
-    vk::GpuImageInfo info{uint32_t(image.width), uint32_t(image.height), 1, VK_FORMAT_R8G8B8A8_UNORM,
-                          VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT};
-    info.mip_levels = uint32_t(mips.size());
-    images.reference = vk::GpuImage(device, info);
-    std::vector<const void*> mip_data;
-    for (const auto& mip : mips) mip_data.push_back(mip.data());
-    m.transfer.UploadMipChain(images.reference, mip_data, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
+    images.reference = UploadReference(device, m.transfer, image);
     for (int l = 0; l < levels; ++l) {
       // Shadow maps at each level's resolution (any size works: they are looked up in
       // normalised coordinates).

@@ -168,7 +168,7 @@ TEST_F(LikelihoodCli, BadInputExitsTwoWithOneLine) {
   ExpectBadInput(RunCommand(Command("--level 3")), {"--level"});
   ExpectBadInput(RunCommand(Command("--level -1")), {"--level"});
   ExpectBadInput(RunCommand(kVkrecon + " likelihood " + Quote(kBox / "scene.json")), {"--at"});
-  ExpectBadInput(RunCommand(Command("--set likelihood.kind=image")), {"likelihood.kind", "not built yet"});
+  ExpectBadInput(RunCommand(Command("--set likelihood.kind=volume")), {"likelihood.kind"});
   ExpectBadInput(RunCommand(Command("--dump d --sweep x=0:1:3")), {"--dump"});
 }
 
