@@ -13,7 +13,7 @@
 // tie into a preference for the truth.
 //
 // With VKRECON_IMAGE_SPACE_PLOTS=DIR set the test also writes the three profiles as PNG
-// plots and one CSV into DIR (that is how docs/image_space_*.png were made).
+// plots and one CSV into DIR (that is how docs/figures/image_space_*.png were made).
 
 #include <gtest/gtest.h>
 
