@@ -46,7 +46,7 @@ int RunBench(int argc, char** argv) {
                "print {\"device\", \"rows\": [{\"name\", \"batch\", \"hypotheses_per_s\", \"passes_ms\", ...}], "
                "\"ceilings\", \"memory\", \"soak\", \"bars\"} instead of the table");
   app.add_option("--only", only,
-                 "run one row (house, cameras/8, triangles/1000, ...) or one sweep (triangles, backfacing, "
+                 "run one row (house, cameras/8, triangles/1008, ...) or one sweep (triangles, backfacing, "
                  "near_clip, cameras, atlas, batch, assets), or only the ceilings or the soak");
   app.add_flag("--quick", quick, "small images, atlases and sweeps, a short soak: for CI and tests");
   app.add_option("--plots", plots, "write PNG plots of every sweep into this folder");
