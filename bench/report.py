@@ -53,13 +53,13 @@ def table(header, rows):
 def row_cells(r, first):
     if r.get("skipped"):
         return [first, r["batch"], "", "skipped: " + r["skipped"].split(": ")[-1]] + [""] * 10
-    return [first, r["batch"], r["repeats"], num(r["hypotheses_per_s"]), num(r["wall_ms"]), num(r.get("cpu_ms")),
+    return [first, r["batch"], f"{r.get('turns', '?')}/{r['repeats']}", num(r["hypotheses_per_s"]), num(r["wall_ms"]), num(r.get("cpu_ms")),
             *[num(pass_ms(r, p)) for p in SURFACE_PASSES],
             num(r.get("view_textures_per_s"), 0),
             pct(r["share_of_ceiling"].get("view_texture")), pct(r["share_of_ceiling"].get("composite"))]
 
 
-SURFACE_HEADER = ["row", "K", "repeats", "hyp/s", "wall ms/hyp", "CPU ms/hyp", "depth", "view_texture", "interior", "composite",
+SURFACE_HEADER = ["row", "K", "turns/evals", "hyp/s", "wall ms/hyp", "CPU ms/hyp", "depth", "view_texture", "interior", "composite",
                   "reduce¹", "view textures/s", "view/fill ceiling", "composite/copy ceiling"]
 
 
@@ -143,10 +143,10 @@ def analysis(res, by_name, rows):
         per_cam = view / cams
         out.append(f"- **View-specific texture pass ({num(view)} ms, {pct(view / gpu)}; {num(per_cam)} ms per camera).** "
                    f"It shades {house['surface_texels'] / 1e3:.0f} k surface texels per camera at "
-                   f"{pct(house['share_of_ceiling'].get('view_texture'))} of the fill ceiling: per-fragment arithmetic "
-                   "(a 4×4 projection, the angle weight, the slope-scaled depth test, a trilinear `textureLod` at a "
-                   "computed LOD and the gradient term of the noise model), not fill rate, bounds it. LAVAPIPE.md "
-                   "measured 51 Mfragments/s for such a pass with the projection per fragment and 102 with it per vertex.")
+                   f"{pct(house['share_of_ceiling'].get('view_texture'))} of the fill ceiling. The projection is already "
+                   "per vertex (view_texture.vert); what is left per texel is the fragment shader's normalisation, "
+                   "angle weight, slope-scaled depth test, the depth-map lookup and a trilinear `textureLod` at a "
+                   "computed LOD.")
     ts = sweep_rows(rows, "triangles")
     if len(ts) >= 2:
         a, b = ts[0], ts[-1]
@@ -159,10 +159,16 @@ def analysis(res, by_name, rows):
     bs = sweep_rows(rows, "backfacing")
     if len(bs) >= 2:
         a, b = bs[0], bs[-1]
-        out.append(f"- **Back-facing triangles**: the view pass's fragment shader returns early for them, the depth "
-                   f"pass draws them anyway. View pass {num(pass_ms(a, 'view_texture'))} ms with none, "
-                   f"{num(pass_ms(b, 'view_texture'))} ms with all; CPU {num(a.get('cpu_ms'))} → "
-                   f"{num(b.get('cpu_ms'))} ms per hypothesis.")
+        va, vb = pass_ms(a, "view_texture"), pass_ms(b, "view_texture")
+        flat = abs(vb - va) < 0.1 * va
+        out.append(f"- **Back-facing triangles**: view pass {num(va)} ms with none, {num(vb)} ms with all; CPU "
+                   f"{num(a.get('cpu_ms'))} → {num(b.get('cpu_ms'))} ms per hypothesis. "
+                   + ("The fragment shader returns early for a back-facing texel, yet that saves nothing measurable, "
+                      "most likely because llvmpipe runs a shader over blocks of fragments and executes divergent "
+                      "branches under a mask: an early `return` (writing weight 0) then costs about as much as the "
+                      "full shader. "
+                      if flat else "The fragment shader's early return for back-facing texels shows in the view pass. ")
+                   + "The depth pass draws them either way.")
     ns = sweep_rows(rows, "near_clip")
     if len(ns) >= 2:
         a, b = ns[0], ns[-1]
@@ -207,10 +213,14 @@ def analysis(res, by_name, rows):
                "variant); or fuse it into the view pass by additive blending of (w, w·c, w·‖c‖², w²) into one RGBA32F "
                "accumulator pair, so the composite reads 2 layers instead of one per camera. At the copy ceiling the "
                f"composite's bytes would take {house['atlas'] ** 2 * (cams * 8 + 4) / ceilings['copy_bytes_per_s'] * 1e3:.1f} ms.")
-    out.append("2. View pass: project per vertex and interpolate (homogeneous clip coordinates interpolate "
-               "correctly; LAVAPIPE.md: 2×), and compute the LOD and angle weight from interpolated quantities.")
-    out.append("3. Skip what no camera can see: texels of faces facing away from every camera or outside every "
-               "frustum can be culled per face on the host before recording.")
+    out.append("2. View pass: reject texels so that llvmpipe can skip them. The layer is cleared to weight 0 before "
+               "the draw, so the early `return`s could be `discard`s, which end the shader for blocks whose "
+               "fragments are all rejected (to be measured: the back-facing sweep shows what a rejection costs "
+               "now); better, skip whole faces on the host: a face whose plane faces away from camera i, or whose "
+               "bounds lie outside its frustum, need not be drawn into view i at all (one draw per face range).")
+    out.append(f"3. Composite over the charts only: it runs over all {house['atlas']}² = {house['atlas'] ** 2 / 1e3:.0f} k "
+               f"atlas texels while {house['surface_texels'] / 1e3:.0f} k lie on the surface; dispatching over the "
+               "charts' rectangles (or packing them tighter) saves the rest.")
     out.append("4. Run the coarse levels early (§7.3): a level quarters both the texels and the pixels.")
     return out
 
@@ -234,10 +244,13 @@ def main():
         w(f"Run: {run.get('date', '?')}, `bench/run.sh` → `{run.get('command', '')}`, "
           f"{num(res.get('seconds', 0), 0)} s; load average before/after: {run.get('load_before', '?')} / "
           f"{run.get('load_after', '?')}.  ")
-    w(f"Numbers: `{os.path.basename(path)}` (every row, every pass, memory, soak). Every figure is the median over "
-      "the repeats of its row within this one run (the `repeats` field). GPU times are timestamps around each pass, "
-      "per hypothesis; wall time is one `Evaluate()` of a batch of K hypotheses divided by K, host work and "
-      "read-back included, and gives hypotheses/s.")
+    w(f"Numbers: `{os.path.basename(path)}` (every row, every pass, memory, soak). How a row is timed: its "
+      "likelihood is built and warmed up (the first submission compiles the pipelines), then the rows of one sweep "
+      "take turns, round after round, so that load from other programs falls on all of them alike; in a turn a row "
+      "calls `Evaluate()` on batches of K hypotheses (one GPU submission each) for at least half a second. Every "
+      "figure is the median over the turns of its row within this one run (`turns/evals`: turns and `Evaluate()` "
+      "calls). Per hypothesis: wall clock (host work and read-back included; hypotheses/s is its inverse), the "
+      "process's CPU time, and GPU timestamps around each pass.")
     if res.get("quick"):
         w("")
         w("**This is a `--quick` run: small images and atlases. Its numbers are not the bars' configurations.**")
@@ -308,7 +321,8 @@ def main():
            "reads (not a device ceiling: a piece of the composite pass, timed alone)"]]
          if ceilings.get("reduction_texels_per_s") else [])))
     w("")
-    w("Each pass of the surface likelihood is reported as a share of the ceiling that bounds it: the depth pass "
+    w("Each ceiling is the better of two measurements, at the start of the run and after the rows. "
+      "Each pass of the surface likelihood is reported as a share of the ceiling that bounds it: the depth pass "
       "as cameras × image pixels, the view-specific texture pass as cameras × surface texels, the interior pass as "
       "surface texels (all fragments, against the fill ceiling) and the composite as the bytes it must read, atlas² × "
       "(8 bytes × cameras + 4), against the copy ceiling.")
@@ -342,8 +356,8 @@ def main():
                            if p in ["depth", "warp", "compare", "reduce"] else 99)
             w("Image-space likelihood (GPU ms per hypothesis by pass):")
             w("")
-            w(table(["row", "K", "repeats", "hyp/s", "wall ms/hyp", "CPU ms/hyp", *names],
-                    [[f"`{r['name']}`", r["batch"], r["repeats"],
+            w(table(["row", "K", "turns/evals", "hyp/s", "wall ms/hyp", "CPU ms/hyp", *names],
+                    [[f"`{r['name']}`", r["batch"], f"{r.get('turns', '?')}/{r['repeats']}",
                       "skipped" if r.get("skipped") else num(r["hypotheses_per_s"]),
                       num(r.get("wall_ms")), num(r.get("cpu_ms")), *[num(pass_ms(r, p)) for p in names]]
                      for r in img]))

@@ -33,13 +33,15 @@ struct BenchOptions {
   // Scratch folder for scenes and reference images; empty: a fresh folder under the system
   // temp folder, removed when the run ends.
   std::filesystem::path work_dir;
-  // Each row repeats its timed batch at least `min_repeats` times and for at least
-  // `min_seconds` of timed work, but never more than `max_repeats` times; medians are
-  // reported. The rows of one sweep take turns, one repetition each per round.
-  int min_repeats = 3;
+  // The rows of one sweep are timed in turns, round after round, so that load from other
+  // programs falls on all of them alike. In a turn a row evaluates its batch of K again and
+  // again for at least `turn_seconds` (at least once). Each row gets at least `min_turns`
+  // turns and `min_seconds` of timed work, and no turn starts past `max_row_seconds` of timed
+  // work or after `max_turns`. Figures are medians over the turns.
+  double turn_seconds = 0.5;
+  int min_turns = 3;
   double min_seconds = 1.0;
-  int max_repeats = 30;
-  // ... and stops after the first repeat that ends past this many seconds (large K).
+  int max_turns = 30;
   double max_row_seconds = 20.0;
   // The soak: this many evaluations, host RSS and device bytes sampled every `soak_every`.
   int soak_evaluations = 10000;
@@ -59,8 +61,9 @@ struct BenchRow {
   std::string skipped;
 
   int batch = 0;    // K: hypotheses per Evaluate() (one GPU submission)
-  int repeats = 0;  // timed submissions
-  double hypotheses_per_s = 0.0;  // median over the repeats of K / wall seconds of one Evaluate()
+  int turns = 0;    // timed turns (see BenchOptions)
+  int repeats = 0;  // timed Evaluate() calls over all turns
+  double hypotheses_per_s = 0.0;  // median over the turns of hypotheses / wall seconds
   double wall_ms = 0.0;           // wall-clock ms per hypothesis (median), host work and read-back included
   // Process CPU ms per hypothesis (median; all threads, lavapipe's included). Unlike wall
   // time it barely moves when other programs share the cores; on a CPU device with C idle

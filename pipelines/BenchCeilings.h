@@ -35,7 +35,8 @@ struct Ceilings {
   double reduction_texels_per_s = 0.0;
 };
 
-// Times both on `device` with GPU timestamps (medians over the repeats).
+// Times both on `device` with GPU timestamps (medians over the repeats). `vkrecon bench`
+// measures them at the start and again after the rows, and keeps the better of the two.
 Ceilings MeasureCeilings(vk::Device& device, const CeilingOptions& options = {});
 
 }  // namespace vkr

@@ -36,6 +36,7 @@ J RowJson(const BenchRow& r) {
   j["wall_ms"] = Finite(r.wall_ms);
   j["cpu_ms"] = Finite(r.cpu_ms);
   j["gpu_ms"] = Finite(r.gpu_ms);
+  j["turns"] = r.turns;
   j["repeats"] = r.repeats;
   j["view_textures_per_s"] = Finite(r.view_textures_per_s);
   J shares = J::object();
@@ -160,7 +161,7 @@ std::string FormatBenchTable(const BenchReport& report) {
     std::snprintf(line, sizeof line, " %10s %9s %10s\n", views.c_str(), shares.c_str(), Mib(r.device_bytes).c_str());
     out += line;
   }
-  out += "\n(medians over the repeats; per hypothesis: wall_ms wall clock, cpu_ms process CPU time (all threads),\n"
+  out += "\n(medians over the turns; per hypothesis: wall_ms wall clock, cpu_ms process CPU time (all threads),\n"
          " passes GPU ms; share v/c: view-texture pass against the fill ceiling / composite against the copy ceiling)\n\n";
   const Ceilings& c = report.ceilings;
   out += "ceiling compute copy   " + Format("%.2f GB/s", c.copy_bytes_per_s * 1e-9) + " (read + write, " +

@@ -333,7 +333,7 @@ std::map<std::string, double> ImageLikelihood::LastPassTimesMs() const {
       const size_t i = size_t(k) * kImageTimestamps + p;
       out[names[p]] += (t[i + 1] - t[i]) / m.last_batch;
     }
-  out["reduce"] = t[count - 1] - t[count - 2];
+  out["reduce"] = (t[count - 1] - t[count - 2]) / m.last_batch;  // one pass for the batch, per hypothesis like the others
   return out;
 }
 
