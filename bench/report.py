@@ -189,8 +189,7 @@ def analysis(res, by_name, rows):
         if rise > 0.05:
             text += (f"Per hypothesis it even costs {pct(rise)} more at K = {b['batch']} than at K = {a['batch']}; "
                      "every K evaluates the same 16 proposals in turn, so the hypotheses are not the cause. "
-                     "Where the extra goes is in the pass columns above (every pass grows a little, `reduce` is "
-                     "per batch).")
+                     "Where the extra goes is in the pass columns above.")
         out.append(text)
     lv = [by_name[n] for n in ("house/level1", "house/level2") if n in by_name and not by_name[n].get("skipped")]
     if lv:
@@ -426,8 +425,8 @@ def main():
 
     w("## Notes")
     w("")
-    w("¹ `reduce` is reported by the likelihoods' `LastPassTimesMs()` for the whole batch, not per hypothesis like "
-      "the other passes, so at large K it over-counts in `gpu_ms` by a factor K.")
+    w("¹ `reduce` is one pass for the whole batch; `LastPassTimesMs()` divides it by K like the other passes "
+      "(results written before 2026-11-21 18:15 UTC report it per batch).")
     w("")
     w("`cameras/1` is skipped: the surface likelihood compares views and needs at least two cameras.")
     w("")
