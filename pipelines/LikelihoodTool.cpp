@@ -21,13 +21,12 @@ namespace fs = std::filesystem;
 namespace vkr {
 namespace {
 
-// The surface-space likelihood behind the common interface.
-class SurfaceAdapter final : public Likelihood {
+// Forwards the common interface to a concrete likelihood; adapters add kind() and dumps.
+template <class Concrete, class Options>
+class Adapter : public Likelihood {
  public:
-  SurfaceAdapter(vk::Device& device, const Scene& scene, const SurfaceLikelihoodOptions& options)
-      : likelihood_(device, scene, options) {}
+  Adapter(vk::Device& device, const Scene& scene, const Options& options) : likelihood_(device, scene, options) {}
 
-  std::string kind() const override { return "surface"; }
   const LikelihoodModel& model() const override { return likelihood_.options().model; }
   int max_batch() const override { return likelihood_.options().max_batch; }
   void SetLevel(int level) override { likelihood_.SetLevel(level); }
@@ -37,6 +36,16 @@ class SurfaceAdapter final : public Likelihood {
     return likelihood_.Evaluate(batch);
   }
   std::map<std::string, double> LastPassTimesMs() const override { return likelihood_.LastPassTimesMs(); }
+
+ protected:
+  Concrete likelihood_;
+};
+
+// The surface-space likelihood behind the common interface.
+class SurfaceAdapter final : public Adapter<SurfaceLikelihood, SurfaceLikelihoodOptions> {
+ public:
+  using Adapter::Adapter;
+  std::string kind() const override { return "surface"; }
 
   LikelihoodDump EvaluateAndDump(const std::vector<double>& psi, Evaluation* evaluation) override {
     SurfaceDump surface = likelihood_.EvaluateAndDump(psi, evaluation);
@@ -51,29 +60,15 @@ class SurfaceAdapter final : public Likelihood {
     dump.images.push_back({"deviation", DumpImage::Kind::Deviation, true, std::move(surface.deviation)});
     return dump;
   }
-
- private:
-  SurfaceLikelihood likelihood_;
 };
 
 // The image-space likelihood (§4) behind the common interface. A dump holds, per ordered
 // pair (s, t), the synthetic image s_{s,t} (t's view textured from r_s, thesis Figs 4.5–4.8)
 // and its consistency with r_t: `synthetic_<t>_from_<s>` and `consistency_<t>_from_<s>`.
-class ImageAdapter final : public Likelihood {
+class ImageAdapter final : public Adapter<ImageLikelihood, ImageLikelihoodOptions> {
  public:
-  ImageAdapter(vk::Device& device, const Scene& scene, const ImageLikelihoodOptions& options)
-      : likelihood_(device, scene, options) {}
-
+  using Adapter::Adapter;
   std::string kind() const override { return "image"; }
-  const LikelihoodModel& model() const override { return likelihood_.options().model; }
-  int max_batch() const override { return likelihood_.options().max_batch; }
-  void SetLevel(int level) override { likelihood_.SetLevel(level); }
-  int level() const override { return likelihood_.level(); }
-  int levels() const override { return likelihood_.levels(); }
-  std::vector<Evaluation> Evaluate(const std::vector<std::vector<double>>& batch) override {
-    return likelihood_.Evaluate(batch);
-  }
-  std::map<std::string, double> LastPassTimesMs() const override { return likelihood_.LastPassTimesMs(); }
 
   LikelihoodDump EvaluateAndDump(const std::vector<double>& psi, Evaluation* evaluation) override {
     ImageDump image = likelihood_.EvaluateAndDump(psi, evaluation);
@@ -87,9 +82,6 @@ class ImageAdapter final : public Likelihood {
     }
     return dump;
   }
-
- private:
-  ImageLikelihood likelihood_;
 };
 
 // A scene, the hypothesis of --at and a likelihood built for them; the likelihood may keep a
