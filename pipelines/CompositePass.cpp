@@ -4,25 +4,13 @@
 #include "engine/vk/Commands.h"
 #include "pipelines/PipelineBuilder.h"
 #include "shaders/composite_comp.h"
-#include "shaders/reduce_comp.h"
 
 namespace vkr {
 namespace {
 
-// Mirrors `Scalars` in shaders_glsl/reduction.glsl (std430).
-struct GpuScalars {
-  float sum_squares, dof;
-  uint32_t seen_multi, seen_once, seen_none, interior, pad0, pad1;
-};
-static_assert(sizeof(GpuScalars) == 32);
-
 struct CompositePush {
   uint32_t size, view_count, partial_offset, write_images;
   float inv_sigma2, cap;
-};
-
-struct ReducePush {
-  uint32_t partial_stride, partial_count;
 };
 
 constexpr uint32_t kTile = 16;  // composite.comp's local size
@@ -35,16 +23,11 @@ VkDescriptorSetLayoutBinding Binding(uint32_t b, VkDescriptorType type) {
 
 CompositePass::CompositePass(vk::Device& device, const vk::GpuImage& views, const vk::GpuImage& mask,
                              int max_batch)
-    : view_count_(views.info().layers) {
+    : view_count_(views.info().layers), reduce_(device, max_batch, Groups(views.info().width)) {
   const uint32_t size = views.info().width;
-  partial_stride_ = Groups(size);
   const VkImageUsageFlags dump_usage = VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
   composite_ = vk::GpuImage(device, {size, size, 1, VK_FORMAT_R32G32B32A32_SFLOAT, dump_usage});
   deviation_ = vk::GpuImage(device, {size, size, 1, VK_FORMAT_R32G32B32A32_SFLOAT, dump_usage});
-  partials_ = vk::Buffer(device, VkDeviceSize(max_batch) * partial_stride_ * sizeof(GpuScalars),
-                         VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, vk::MemoryUse::Device);
-  results_ = vk::Buffer(device, VkDeviceSize(max_batch) * sizeof(GpuScalars),
-                        VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, vk::MemoryUse::Readback);
 
   const std::vector<VkDescriptorSetLayoutBinding> composite_bindings = {
       Binding(0, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE), Binding(1, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE),
@@ -58,25 +41,13 @@ CompositePass::CompositePass(vk::Device& device, const vk::GpuImage& views, cons
   composite_set_ = cs.sets[0];
   WriteStorageImage(device, composite_set_, 0, views.view());
   WriteStorageImage(device, composite_set_, 1, mask.view());
-  WriteStorageBuffer(device, composite_set_, 2, partials_);
+  WriteStorageBuffer(device, composite_set_, 2, reduce_.partials());
   WriteStorageImage(device, composite_set_, 3, composite_.view());
   WriteStorageImage(device, composite_set_, 4, deviation_.view());
 
-  const std::vector<VkDescriptorSetLayoutBinding> reduce_bindings = {
-      Binding(0, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER), Binding(1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER)};
-  reduce_set_layout_ = CreateDescriptorSetLayout(device, reduce_bindings);
-  reduce_layout_ = CreatePipelineLayout(device, reduce_set_layout_, sizeof(ReducePush),
-                                        VK_SHADER_STAGE_COMPUTE_BIT);
-  DescriptorSets rs = AllocateDescriptorSets(device, reduce_set_layout_, reduce_bindings);
-  reduce_pool_ = std::move(rs.pool);
-  reduce_set_ = rs.sets[0];
-  WriteStorageBuffer(device, reduce_set_, 0, partials_);
-  WriteStorageBuffer(device, reduce_set_, 1, results_);
 
   const vk::ShaderModule composite = vk::CreateShaderModule(device, kCompositeComp, sizeof(kCompositeComp));
-  const vk::ShaderModule reduce = vk::CreateShaderModule(device, kReduceComp, sizeof(kReduceComp));
   composite_pipeline_ = CreateComputePipeline(device, composite, composite_layout_);
-  reduce_pipeline_ = CreateComputePipeline(device, reduce, reduce_layout_);
 
   // The dump images live in GENERAL for the whole run.
   vk::CommandContext context(device);
@@ -88,7 +59,7 @@ CompositePass::CompositePass(vk::Device& device, const vk::GpuImage& views, cons
   context.SubmitAndWait();
 }
 
-uint32_t CompositePass::Groups(uint32_t level_size) const {
+uint32_t CompositePass::Groups(uint32_t level_size) {
   const uint32_t tiles = (level_size + kTile - 1) / kTile;
   return tiles * tiles;
 }
@@ -96,7 +67,7 @@ uint32_t CompositePass::Groups(uint32_t level_size) const {
 void CompositePass::record(VkCommandBuffer cmd, int slot, uint32_t level_size, double sigma_255,
                            double cap, bool write_images) const {
   const double sigma = sigma_255 / 255.0;
-  const CompositePush push{level_size, view_count_, uint32_t(slot) * partial_stride_,
+  const CompositePush push{level_size, view_count_, uint32_t(slot) * reduce_.partial_stride(),
                            write_images ? 1u : 0u, float(1.0 / (sigma * sigma)), float(cap)};
   vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, composite_pipeline_);
   vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, composite_layout_, 0, 1,
@@ -107,28 +78,9 @@ void CompositePass::record(VkCommandBuffer cmd, int slot, uint32_t level_size, d
 }
 
 void CompositePass::record_reduce(VkCommandBuffer cmd, int batch, uint32_t level_size) const {
-  vk::MemoryBarrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
-                    VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
-  const ReducePush push{partial_stride_, Groups(level_size)};
-  vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, reduce_pipeline_);
-  vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, reduce_layout_, 0, 1, &reduce_set_,
-                          0, nullptr);
-  vkCmdPushConstants(cmd, reduce_layout_, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(push), &push);
-  vkCmdDispatch(cmd, uint32_t(batch), 1, 1);
-  vk::MemoryBarrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
-                    VK_PIPELINE_STAGE_2_HOST_BIT, VK_ACCESS_2_HOST_READ_BIT);
+  reduce_.record(cmd, batch, Groups(level_size));
 }
 
-ReducedScalars CompositePass::Result(int slot) const {
-  const GpuScalars& g = results_.data<GpuScalars>()[slot];
-  ReducedScalars r;
-  r.sum_squares = g.sum_squares;
-  r.dof = g.dof;
-  r.seen_multi = g.seen_multi;
-  r.seen_once = g.seen_once;
-  r.seen_none = g.seen_none;
-  r.interior = g.interior;
-  return r;
-}
+ReducedScalars CompositePass::Result(int slot) const { return reduce_.Result(slot); }
 
 }  // namespace vkr

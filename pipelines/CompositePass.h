@@ -5,6 +5,7 @@
 
 #include "engine/vk/Resources.h"
 #include "pipelines/Evaluation.h"
+#include "pipelines/ReducePass.h"
 
 namespace vkr {
 
@@ -30,16 +31,16 @@ class CompositePass {
   const vk::GpuImage& deviation() const { return deviation_; }
 
  private:
-  uint32_t Groups(uint32_t level_size) const;
+  static uint32_t Groups(uint32_t level_size);
 
-  uint32_t view_count_, partial_stride_;
+  uint32_t view_count_;
+  ReducePass reduce_;
   vk::GpuImage composite_, deviation_;
-  vk::Buffer partials_, results_;
-  vk::DescriptorSetLayout composite_set_layout_, reduce_set_layout_;
-  vk::PipelineLayout composite_layout_, reduce_layout_;
-  vk::DescriptorPool composite_pool_, reduce_pool_;
-  VkDescriptorSet composite_set_ = VK_NULL_HANDLE, reduce_set_ = VK_NULL_HANDLE;
-  vk::Pipeline composite_pipeline_, reduce_pipeline_;
+  vk::DescriptorSetLayout composite_set_layout_;
+  vk::PipelineLayout composite_layout_;
+  vk::DescriptorPool composite_pool_;
+  VkDescriptorSet composite_set_ = VK_NULL_HANDLE;
+  vk::Pipeline composite_pipeline_;
 };
 
 }  // namespace vkr

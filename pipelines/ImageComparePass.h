@@ -5,10 +5,12 @@
 // The first level (image_compare.comp) sums over pairs per pixel and over a workgroup's
 // pixels; the second is the surface likelihood's reduce.comp, reused as it is.
 
+#include <memory>
 #include <vector>
 
 #include "engine/vk/Resources.h"
 #include "pipelines/Evaluation.h"
+#include "pipelines/ReducePass.h"
 
 namespace vkr {
 
@@ -31,14 +33,15 @@ class ImageComparePass {
  private:
   VkExtent2D Groups(int level) const;
 
-  uint32_t pair_count_, partial_stride_;
+  uint32_t pair_count_;
   std::vector<VkExtent2D> level_extent_;  // the largest pair region per level
-  vk::Buffer sizes_, partials_, results_;
-  vk::DescriptorSetLayout compare_set_layout_, reduce_set_layout_;
-  vk::PipelineLayout compare_layout_, reduce_layout_;
-  vk::DescriptorPool compare_pool_, reduce_pool_;
-  VkDescriptorSet compare_set_ = VK_NULL_HANDLE, reduce_set_ = VK_NULL_HANDLE;
-  vk::Pipeline compare_pipeline_, reduce_pipeline_;
+  std::unique_ptr<ReducePass> reduce_;    // sized once the level extents are known
+  vk::Buffer sizes_;
+  vk::DescriptorSetLayout compare_set_layout_;
+  vk::PipelineLayout compare_layout_;
+  vk::DescriptorPool compare_pool_;
+  VkDescriptorSet compare_set_ = VK_NULL_HANDLE;
+  vk::Pipeline compare_pipeline_;
 };
 
 }  // namespace vkr
