@@ -11,6 +11,7 @@
 #include "pipelines/ViewRendering.h"
 #include "tests/common/GpuTest.h"
 #include "tests/common/TestFiles.h"
+#include "tests/pipelines/SynthesisedAsset.h"
 
 namespace vkr {
 namespace {
@@ -24,30 +25,11 @@ struct ProfileCase {
 
 class SurfaceProfile : public test::GpuTest, public ::testing::WithParamInterface<ProfileCase> {};
 
-// Synthesises the asset's images at the truth and loads the scene pointing at them.
-Scene SynthesisedScene(vk::Device& device, const std::string& asset, double noise, const test::TempDir& dir,
-                       std::vector<double>* truth) {
-  const fs::path root = fs::path(VKRECON_SOURCE_DIR) / "assets" / asset;
-  SynthOptions synth;
-  synth.scene_file = root / "scene.json";
-  synth.at_file = root / "truth.json";
-  synth.output_dir = dir.path();
-  synth.noise_sigma = noise;
-  synth.seed = 7;
-  synth.scale = 0.25;
-  synth.atlas = 1024;
-  SynthesiseImages(synth, device);
-  Scene scene = LoadScene(root / "scene.json", {{"cameras", (dir / "cameras.json").string()},
-                                                {"images", dir.path().string()}});
-  *truth = scene.ValuesFromFile(root / "truth.json");
-  return scene;
-}
-
 TEST_P(SurfaceProfile, EveryParameterPeaksWithinOneStepOfTheTruth) {
   const ProfileCase c = GetParam();
   test::TempDir dir;
   std::vector<double> truth;
-  const Scene scene = SynthesisedScene(device(), c.asset, c.noise, dir, &truth);
+  const Scene scene = test::SynthesisedScene(device(), c.asset, c.noise, dir, &truth);
   SurfaceLikelihoodOptions options = SurfaceLikelihoodOptions::FromScene(scene);
   options.atlas = 128;
   options.levels = 1;

@@ -1,0 +1,19 @@
+#pragma once
+// A bundled asset with reference images made by `synth` at its truth (quarter size), loaded
+// as a scene pointing at them: the starting point of the likelihood and output tests.
+
+#include <string>
+#include <vector>
+
+#include "engine/scene/Scene.h"
+#include "engine/vk/Device.h"
+#include "tests/common/TestFiles.h"
+
+namespace vkr::test {
+
+// Images (160×120-class, noise sd `noise` on the 0–255 scale, seed 7) go into `dir`;
+// `truth` receives the asset's truth.json.
+Scene SynthesisedScene(vk::Device& device, const std::string& asset, double noise, const TempDir& dir,
+                       std::vector<double>* truth);
+
+}  // namespace vkr::test
