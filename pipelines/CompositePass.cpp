@@ -14,6 +14,10 @@ struct CompositePush {
 };
 
 constexpr uint32_t kTile = 16;  // composite.comp's local size
+constexpr uint32_t kRows = 8;   // composite.comp's texels per invocation (a column)
+
+uint32_t GroupsX(uint32_t level_size) { return (level_size + kTile - 1) / kTile; }
+uint32_t GroupsY(uint32_t level_size) { return (level_size + kTile * kRows - 1) / (kTile * kRows); }
 
 VkDescriptorSetLayoutBinding Binding(uint32_t b, VkDescriptorType type) {
   return {b, type, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr};
@@ -60,8 +64,7 @@ CompositePass::CompositePass(vk::Device& device, const vk::GpuImage& views, cons
 }
 
 uint32_t CompositePass::Groups(uint32_t level_size) {
-  const uint32_t tiles = (level_size + kTile - 1) / kTile;
-  return tiles * tiles;
+  return GroupsX(level_size) * GroupsY(level_size);
 }
 
 void CompositePass::record(VkCommandBuffer cmd, int slot, uint32_t level_size, double sigma_255,
@@ -73,8 +76,7 @@ void CompositePass::record(VkCommandBuffer cmd, int slot, uint32_t level_size, d
   vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, composite_layout_, 0, 1,
                           &composite_set_, 0, nullptr);
   vkCmdPushConstants(cmd, composite_layout_, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(push), &push);
-  const uint32_t tiles = (level_size + kTile - 1) / kTile;
-  vkCmdDispatch(cmd, tiles, tiles, 1);
+  vkCmdDispatch(cmd, GroupsX(level_size), GroupsY(level_size), 1);
 }
 
 void CompositePass::record_reduce(VkCommandBuffer cmd, int batch, uint32_t level_size) const {

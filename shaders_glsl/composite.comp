@@ -22,14 +22,17 @@ layout(push_constant) uniform Push {
   float cap;            // per-dof cap of s_t / σ²
 } pc;
 
-void main() {
-  const uvec2 texel = gl_GlobalInvocationID.xy;
-  const uint tid = gl_LocalInvocationIndex;
+// Each invocation accumulates a column of kRows texels before the workgroup's tree
+// reduction: on lavapipe the nine barriers of that tree cost more than the composite itself,
+// so one tree per 16×16·kRows tile instead of per 16×16 (CompositePass.cpp mirrors kRows).
+// The order of every sum is still fixed, so results stay bit-identical.
+const uint kRows = 8u;
+
+Scalars CompositeTexel(uvec2 texel) {
   Scalars mine = Scalars(0.0, 0.0, 0u, 0u, 0u, 0u, 0u, 0u);
   vec3 mean = vec3(0.0);
   float chi2 = 0.0, n = 0.0;
-  uint m = 0u;
-  if (texel.x < pc.size && texel.y < pc.size) m = imageLoad(mask, ivec2(texel)).r;
+  const uint m = imageLoad(mask, ivec2(texel)).r;
   if (m == 2u) {
     mine.interior = 1u;
   } else if (m == 1u) {
@@ -62,10 +65,30 @@ void main() {
       mine.seen_none = 1u;
     }
   }
-  if (pc.write_images != 0u && texel.x < pc.size && texel.y < pc.size) {
+  if (pc.write_images != 0u) {
     imageStore(composite_out, ivec2(texel), vec4(mean, n));
     imageStore(deviation_out, ivec2(texel),
                vec4(chi2, mine.dof, m == 2u ? 1.0 : 0.0, m != 0u ? 1.0 : 0.0));
+  }
+  return mine;
+}
+
+void main() {
+  const uint tid = gl_LocalInvocationIndex;
+  Scalars mine = Scalars(0.0, 0.0, 0u, 0u, 0u, 0u, 0u, 0u);
+  const uint x = gl_GlobalInvocationID.x;
+  const uint y0 = gl_WorkGroupID.y * gl_WorkGroupSize.y * kRows + gl_LocalInvocationID.y;
+  for (uint r = 0u; r < kRows; ++r) {
+    const uint y = y0 + r * gl_WorkGroupSize.y;
+    if (x < pc.size && y < pc.size) {
+      const Scalars t = CompositeTexel(uvec2(x, y));
+      mine.sum_squares += t.sum_squares;
+      mine.dof += t.dof;
+      mine.seen_multi += t.seen_multi;
+      mine.seen_once += t.seen_once;
+      mine.seen_none += t.seen_none;
+      mine.interior += t.interior;
+    }
   }
   const Scalars total = ReduceWorkgroup(tid, mine);
   if (tid == 0u) {
