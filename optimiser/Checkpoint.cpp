@@ -16,7 +16,7 @@ namespace {
 using nlohmann::json;
 
 constexpr const char* kFormat = "vkrecon-sampler-checkpoint";
-constexpr int kVersion = 1;
+constexpr int kVersion = 2;  // 2: settling
 
 json Numbers(const std::vector<double>& values) {
   json j = json::array();
@@ -127,6 +127,10 @@ json StateToJson(const State& s) {
                  {"candidate", Numbers(r.candidate)},
                  {"step_scale", JsonNumber(r.step_scale)}};
 
+  j["settle"] = {{"settled", s.settled},
+                {"calibration", s.calibration},
+                {"laplace", s.laplace.size() ? Matrix(s.laplace) : json::array()}};
+
   // The chain so far, column by column.
   json iteration = json::array(), chain = json::array(), level = json::array(),
        temperature = json::array(), accepted = json::array(), swapped = json::array(),
@@ -224,7 +228,11 @@ State StateFromJson(const json& j) {
     r.candidate = ReadNumbers(jr.at("candidate"));
     r.step_scale = ReadNumber(jr.at("step_scale"));
     if (!jr.at("inverse_hessian").empty()) r.inverse_hessian = ReadMatrix(jr.at("inverse_hessian"), d);
-    if (s.phase == Phase::Refining &&
+    const json& settle = j.at("settle");
+    s.settled = settle.at("settled").get<bool>();
+    s.calibration = settle.at("calibration");
+    if (!settle.at("laplace").empty()) s.laplace = ReadMatrix(settle.at("laplace"), d);
+    if ((s.phase == Phase::Refining || s.phase == Phase::Settling || s.phase == Phase::Restarting) &&
         (int(r.candidate.size()) != d || r.inverse_hessian.rows() != d ||
          (r.have_point && (int(r.psi.size()) != d || int(r.gradient.size()) != d))))
       throw std::invalid_argument("refinement state of the wrong size");

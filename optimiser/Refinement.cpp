@@ -1,5 +1,6 @@
-// Gradient refinement of the MAP (DESIGN.md, "The optimiser"): quasi-Newton ascent on the
-// untempered log posterior at level 0 with central finite differences. Each frame scores
+// Gradient refinement (DESIGN.md, "The optimiser"): quasi-Newton ascent on the untempered
+// log posterior at level 0 with central finite differences, mid-run to find the mode
+// (settling) and at the end to polish the MAP. Each frame scores
 // one candidate and its 2d neighbours ψ ± h_i e_i in one batch; a candidate that improves
 // on the current point is accepted (and its gradient is already known), one that does not
 // shortens the step. The first inverse Hessian is the posterior covariance of the sample
@@ -39,8 +40,13 @@ Eigen::MatrixXd InitialInverseHessian(const State& s) {
     if (Eigen::LLT<Eigen::MatrixXd>(h).info() == Eigen::Success) return h;
     h.setZero();
   }
+  // The scale the cold replicas' burn-in tuning arrived at (Replica::log_scale): during
+  // settling there is no posterior sample yet, and the untuned proposal is often 100×
+  // wider than the posterior, which would cost the quasi-Newton steps many halvings.
+  double log_scale = 0.0;
+  for (const ChainState& c : s.chains) log_scale += c.replicas[0].log_scale / double(s.chains.size());
   for (int i = 0; i < d; ++i) {
-    const double sd = s.options.proposal_scale * s.parameters[i].Width();
+    const double sd = s.options.proposal_scale * std::exp(log_scale) * s.parameters[i].Width();
     h(i, i) = sd * sd;
   }
   return h;
@@ -74,6 +80,11 @@ Eigen::VectorXd Direction(const State& s, const RefineState& r) {
   const Eigen::VectorXd step = reduced.llt().solve(g_free);
   for (int a = 0; a < n; ++a) direction[free[size_t(a)]] = step[a];
   return direction;
+}
+
+// The settling refinement hands over to the restart, the final one ends the run.
+void FinishRefinement(State& s) {
+  s.phase = s.phase == Phase::Settling ? Phase::Restarting : Phase::Done;
 }
 
 }  // namespace
@@ -146,7 +157,7 @@ void RefineFrame(State& s, const BatchEvaluator& evaluate) {
     r.step_scale *= 0.25;
   }
   if (!r.have_point) {  // the starting point itself no longer scores: nothing to refine
-    s.phase = Phase::Done;
+    FinishRefinement(s);
     return;
   }
 
@@ -161,7 +172,7 @@ void RefineFrame(State& s, const BatchEvaluator& evaluate) {
   }
   r.candidate = std::move(next);
   if (!(moved >= s.options.refine_tolerance) || r.step >= s.options.refine_steps)
-    s.phase = Phase::Done;
+    FinishRefinement(s);
 }
 
 }  // namespace vkr::opt::detail

@@ -17,6 +17,8 @@ const char* ToString(Phase phase) {
   switch (phase) {
     case Phase::Start: return "start";
     case Phase::Sampling: return "sampling";
+    case Phase::Settling: return "settling";
+    case Phase::Restarting: return "restarting";
     case Phase::Refining: return "refining";
     case Phase::Done: return "done";
   }
@@ -24,7 +26,8 @@ const char* ToString(Phase phase) {
 }
 
 bool FromString(const std::string& text, Phase* phase) {
-  for (Phase p : {Phase::Start, Phase::Sampling, Phase::Refining, Phase::Done})
+  for (Phase p : {Phase::Start, Phase::Sampling, Phase::Settling, Phase::Restarting, Phase::Refining,
+                  Phase::Done})
     if (text == ToString(p)) {
       *phase = p;
       return true;
@@ -59,6 +62,10 @@ double State::Temperature(int t, int replica) const {
 
 int State::AdaptStart() const {
   return std::max(options.AnnealIterations(), options.CoarseIterations());
+}
+
+bool State::SettlesAt(int t) const {
+  return options.settle && !settled && t == AdaptStart() && t < options.BurnIn();
 }
 
 void State::ConsiderBest(const std::vector<double>& psi, double log_prior, double log_likelihood) {
@@ -180,14 +187,31 @@ struct Engine {
     bool adapted = false;
     if (s.options.adapt && r.adapt_count >= s.options.adapt_min_samples) {
       Eigen::MatrixXd cov = r.adapt_scatter / double(r.adapt_count - 1);
-      for (int i = 0; i < d; ++i) {
-        const double w = s.parameters[i].Width();
-        cov(i, i) += s.options.adapt_epsilon * w * w;
+      if (s.laplace.rows() == d) {
+        // After settling, the Laplace covariance (times T) counts as adapt_min_samples
+        // prior states. It keeps the covariance positive definite at the posterior's own
+        // scale, where ε·width² would be 10–100× too wide for photographs.
+        const double n0 = double(s.options.adapt_min_samples), n = double(r.adapt_count - 1);
+        cov = (n * cov + n0 * temperature * s.laplace) / (n + n0);
+      } else {
+        for (int i = 0; i < d; ++i) {
+          const double w = s.parameters[i].Width();
+          cov(i, i) += s.options.adapt_epsilon * w * w;
+        }
       }
       cov *= 2.38 * 2.38 / double(d);
       const Eigen::LLT<Eigen::MatrixXd> llt(cov);
       if (llt.info() == Eigen::Success) {
         step = llt.matrixL() * z;
+        adapted = true;
+      }
+    }
+    if (!adapted && s.laplace.rows() == d) {
+      // Settled: the Laplace covariance, scaled like an adapted one and tuned by log_scale.
+      const Eigen::LLT<Eigen::MatrixXd> llt(s.laplace);
+      if (llt.info() == Eigen::Success) {
+        step = (2.38 / std::sqrt(double(d))) * std::sqrt(temperature) * std::exp(r.log_scale) *
+               (Eigen::MatrixXd(llt.matrixL()) * z);
         adapted = true;
       }
     }
@@ -205,6 +229,18 @@ struct Engine {
     if (const int level = s.ScheduledLevel(t); level != s.level) {
       s.level = level;
       EvaluateCurrentStates();
+      return;
+    }
+    if (s.SettlesAt(t) && s.best.valid && s.best.level == 0) {
+      // Exploration is over: find the mode (SamplerOptions::settle). This frame is the
+      // refinement's first, or with no refinement steps the restart itself.
+      StartRefinement(s);
+      if (s.options.refine_steps > 0) {
+        s.phase = Phase::Settling;
+        RefineFrame(s, [this](const auto& batch) { return Evaluate(batch); });
+      } else {
+        RestartFrame(s, target, [this](const auto& batch) { return Evaluate(batch); });
+      }
       return;
     }
     const int chains = s.options.chains, temps = s.options.temperatures, d = s.dimension();
@@ -359,6 +395,7 @@ Sampler::Sampler(const nlohmann::json& checkpoint, Target& target) {
     throw std::invalid_argument("checkpoint: the run had " + std::to_string(state.target_levels) +
                                 " likelihood levels, this likelihood has " +
                                 std::to_string(target.levels()));
+  if (!state.calibration.is_null()) target.RestoreCalibration(state.calibration);
   impl_ = std::make_unique<Impl>(std::move(state), target);
   if (impl_->s.phase != Phase::Start) target.SetLevel(impl_->s.level);
 }
@@ -378,8 +415,12 @@ Progress Sampler::Step() {
     case Phase::Sampling:
       impl_->SamplingFrame();
       break;
+    case Phase::Settling:
     case Phase::Refining:
       detail::RefineFrame(s, [this](const auto& batch) { return impl_->Evaluate(batch); });
+      break;
+    case Phase::Restarting:
+      detail::RestartFrame(s, impl_->target, [this](const auto& batch) { return impl_->Evaluate(batch); });
       break;
     case Phase::Done:
       throw std::logic_error("Sampler::Step after the run is done");

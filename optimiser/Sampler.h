@@ -32,7 +32,7 @@
 #include <string>
 #include <vector>
 
-#include <nlohmann/json_fwd.hpp>
+#include <nlohmann/json.hpp>
 
 #include "optimiser/Parameter.h"
 #include "optimiser/SamplerOptions.h"
@@ -43,6 +43,8 @@ namespace vkr::opt {
 enum class Phase {
   Start,     // the starting points are not evaluated yet
   Sampling,  // Metropolis–Hastings iterations
+  Settling,  // mid-run gradient refinement to the mode (SamplerOptions::settle)
+  Restarting,  // calibration, curvature and restart around the mode (one frame)
   Refining,  // gradient refinement of the best hypothesis
   Done,
 };
@@ -95,6 +97,8 @@ struct ParameterSummary {
   double mean = 0.0, sd = 0.0, q025 = 0.0, q975 = 0.0;
   double ess = 0.0;   // EffectiveSampleSize (Statistics.h)
   double rhat = 0.0;  // SplitRhat over the chains
+  // sd of the Laplace approximation at the mode found by settling (NaN without it).
+  double laplace_sd = 0.0;
 };
 
 struct ChainSummary {
@@ -114,6 +118,7 @@ struct SamplerSummary {
   double map_log_prior = 0.0, map_log_likelihood = 0.0, map_log_posterior = 0.0;
   double sampling_map_log_posterior = 0.0;  // before the refinement
   std::vector<ChainSummary> chains;
+  nlohmann::json calibration;  // the target's, from settling (null: none)
   std::vector<Sample> chain;  // every iteration of every chain's coldest replica
 
   int iterations = 0;  // sampling iterations done

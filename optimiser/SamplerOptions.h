@@ -13,6 +13,9 @@
 // Schedule of one run of N = `iterations` iterations:
 //   [0, coarse)   coarse levels, coarsest first, equal shares    coarse = ⌊coarse_fraction·N⌋
 //   [0, anneal)   T of the coldest replica falls to 1             anneal = ⌊anneal_fraction·N⌋
+//   at max(coarse, anneal), with `settle`: the best hypothesis is refined to the mode, the
+//                 target calibrates its noise model there, and every replica restarts
+//                 around the mode with the curvature's covariance as its proposal
 //   [max(coarse, anneal), N)   adaptation collects its statistics
 //   [burn_in, N)  the cold replicas' states are the posterior sample  burn_in = ⌊burn_in_fraction·N⌋
 //   then up to `refine_steps` gradient steps at level 0, T = 1.
@@ -72,6 +75,18 @@ struct SamplerOptions {
   // spending coarse_fraction · iterations on the coarse ones, coarsest first.
   int coarse_levels = 3;
   double coarse_fraction = 0.2;
+
+  // Settling, once the exploration (annealing, coarse levels) is over: the gradient
+  // refinement takes the best hypothesis to the mode, the target recalibrates there
+  // (Target::Calibrate), the log posterior's curvature is measured by finite differences,
+  // and every replica restarts at mode + settle_spread · √T · N(0, Σ), Σ the inverse of
+  // that curvature (a Laplace approximation), which is also its proposal covariance until
+  // the adaptation has enough states. Photographs give posteriors 10⁻³–10⁻⁴ of the prior
+  // wide: a random walk that has to find that scale by itself spends the run climbing,
+  // and chains that climbed different ridges never meet. A spread above 1 starts the
+  // chains overdispersed, as R̂ wants.
+  bool settle = true;
+  double settle_spread = 1.5;
 
   // Gradient refinement after sampling: at most this many steps (0: none), each one batch
   // with the candidate and its ± central-difference neighbours (2d + 1 hypotheses), steps

@@ -10,12 +10,13 @@
 #include <vector>
 
 #include <Eigen/Dense>
-#include <nlohmann/json_fwd.hpp>
+#include <nlohmann/json.hpp>
 
 #include "optimiser/Parameter.h"
 #include "optimiser/Random.h"
 #include "optimiser/Sampler.h"
 #include "optimiser/SamplerOptions.h"
+#include "optimiser/Target.h"
 
 namespace vkr::opt::detail {
 
@@ -81,6 +82,11 @@ struct State {
   Best best;
   double sampling_best = -kInf;  // best log posterior when sampling ended
   RefineState refine;
+  // Settling (SamplerOptions::settle): done yet; the target's calibration (null: none);
+  // the Laplace covariance at the mode (empty before settling or without it).
+  bool settled = false;
+  nlohmann::json calibration;
+  Eigen::MatrixXd laplace;
   std::vector<Sample> samples;  // iteration-major: all chains of iteration 0, then 1, …
 
   int dimension() const { return int(parameters.size()); }
@@ -90,6 +96,7 @@ struct State {
   double AnnealTemperature(int iteration) const;  // of the coldest replicas
   double Temperature(int iteration, int replica) const;
   int AdaptStart() const;                 // first iteration whose states adaptation collects
+  bool SettlesAt(int iteration) const;    // whether settling comes before this iteration
   // Records an evaluated hypothesis as the best so far at the current level if it is.
   void ConsiderBest(const std::vector<double>& psi, double log_prior, double log_likelihood);
 };
@@ -102,9 +109,12 @@ State InitialState(const SamplerOptions& options, const std::vector<ParameterSpe
 // NaN and ±∞ into −∞ and counting evaluations.
 using BatchEvaluator = std::function<std::vector<double>(const std::vector<std::vector<double>>&)>;
 
-// Refinement.cpp
+// Refinement.cpp. The refinement runs twice: in Phase::Settling to find the mode (then
+// Phase::Restarting follows) and in Phase::Refining at the end (then Phase::Done).
 void StartRefinement(State& state);
 void RefineFrame(State& state, const BatchEvaluator& evaluate);
+// Settle.cpp: the frame after the settling refinement (calibration, curvature, restart).
+void RestartFrame(State& state, Target& target, const BatchEvaluator& evaluate);
 
 // Checkpoint.cpp. StateFromJson throws std::invalid_argument naming what is wrong.
 nlohmann::json StateToJson(const State& state);

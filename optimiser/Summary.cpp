@@ -79,6 +79,7 @@ SamplerSummary Summarise(const State& s) {
   }
   out.sampling_map_log_posterior =
       s.phase == Phase::Refining || s.phase == Phase::Done ? s.sampling_best : out.map_log_posterior;
+  out.calibration = s.calibration;
 
   const auto draws = PosteriorDraws(s);
   for (int i = 0; i < s.dimension(); ++i) {
@@ -93,6 +94,7 @@ SamplerSummary Summarise(const State& s) {
     p.q975 = Quantile(pooled, 0.975);
     p.ess = EffectiveSampleSize(draws[size_t(i)]);
     p.rhat = SplitRhat(draws[size_t(i)]);
+    p.laplace_sd = s.laplace.rows() == s.dimension() ? std::sqrt(s.laplace(i, i)) : kNaN;
     out.parameters.push_back(p);
   }
 
@@ -182,7 +184,7 @@ nlohmann::json MapJson(const SamplerSummary& s) {
     parameters[p.name] = {{"map", Nullable(p.map)}, {"mean", Nullable(p.mean)},
                           {"sd", Nullable(p.sd)},   {"q025", Nullable(p.q025)},
                           {"q975", Nullable(p.q975)}, {"ess", Nullable(p.ess)},
-                          {"rhat", Nullable(p.rhat)}};
+                          {"rhat", Nullable(p.rhat)}, {"laplace_sd", Nullable(p.laplace_sd)}};
   nlohmann::json chains = nlohmann::json::array();
   for (const ChainSummary& c : s.chains) {
     nlohmann::json replica = nlohmann::json::array(), swap = nlohmann::json::array();
@@ -197,6 +199,7 @@ nlohmann::json MapJson(const SamplerSummary& s) {
           {"log_prior", Nullable(s.map_log_prior)},
           {"log_posterior", Nullable(s.map_log_posterior)},
           {"chains", chains},
+          {"calibration", s.calibration},
           {"termination", ToString(s.termination)},
           {"message", s.message},
           {"iterations", s.iterations},

@@ -7,6 +7,8 @@
 #include <functional>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 namespace vkr::opt {
 
 class Target {
@@ -24,6 +26,17 @@ class Target {
   // One log-likelihood per hypothesis (without the prior). NaN or ±∞ marks a hypothesis
   // that cannot be scored: the sampler rejects it. Must return batch.size() values.
   virtual std::vector<double> Evaluate(const std::vector<std::vector<double>>& batch) = 0;
+
+  // Nuisance parameters of the likelihood — its noise level, how many samples are really
+  // independent — estimated at ψ, which the sampler takes to be the mode it found once the
+  // exploration is over. Afterwards Evaluate() scores with them. Returns what was
+  // estimated (kept in checkpoints and map.json), null when the target has nothing to
+  // estimate; RestoreCalibration puts a returned value back when a run resumes.
+  virtual nlohmann::json Calibrate(const std::vector<double>& psi) {
+    (void)psi;
+    return nullptr;
+  }
+  virtual void RestoreCalibration(const nlohmann::json& calibration) { (void)calibration; }
 };
 
 // A target from a plain function of (Ψ, level), evaluated one hypothesis at a time.

@@ -187,6 +187,7 @@ TEST(Sampler, EveryFrameIsOneBatchOfAtMostK) {
   o.temperatures = 4;  // 8 hypotheses per sampling frame
   o.proposal_scale = 0.5;
   o.refine_steps = 10;  // 2·2 + 1 = 5 hypotheses per refinement frame
+  o.settle = false;     // its frames are counted in SettleTest.cpp
   int64_t frames = 0;
   std::vector<int> sampling_frames;
   SamplerCallbacks callbacks;
@@ -273,6 +274,7 @@ TEST(Sampler, GradientRefinementReachesTheOptimumOfAQuadratic) {
   o.initial_temperature = 1.0;
   o.coarse_levels = 1;
   o.refine_steps = 0;
+  o.settle = false;  // settling would find the optimum before the final refinement does
   SamplerSummary sampled, refined;
   ASSERT_TRUE(opt::Run(o, params, target, &sampled)) << sampled.message;
   o.refine_steps = 30;
