@@ -1,6 +1,7 @@
 #!/usr/bin/env python3
 """Writes the bundled example scenes: scene.json, truth.json, cameras.json and albedo
-textures for `box`, `house`, `stairs` and `poster` (after the thesis's experiments).
+textures for `box`, `house`, `stairs` and `poster` (after the thesis's experiments), and
+`focal`, the box with camera parameters estimated too (§4.5.3).
 
 Reference images are NOT written here: `vkrecon synth` makes them from truth.json, so they
 never drift from the renderer. Only the Python standard library is used; the output is
@@ -217,6 +218,30 @@ def main():
     }, {"x": -0.05, "y": 0.1, "diameter": 0.5, "height": 1.2},
         ring(6, 3.0, 1.7, [0.0, 0.0, 0.6], jitter=0.15, seed=5),
         dict(ground_tex, **{"poster.png": poster_texture}))
+
+    # focal: the box scene and cameras, but the photographs were taken with a focal length
+    # 4 % longer than the calibration says and with the principal point 6 px right of it,
+    # and cam4 stood 8 cm higher than its recorded pose (thesis §4.5.3). The camera file
+    # keeps the nominal calibration, with f (a factor on fx and fy), px (pixels added to cx)
+    # and dz (metres added to cam4's height) written into it as expressions.
+    cameras = ring(9, 3.0, 1.8, [0.0, 0.0, 0.3], jitter=0.15, seed=2)
+    for cam in cameras:
+        (fx, _, cx), (_, fy, cy), _ = cam["K"]
+        cam["K"] = [["%g*f" % fx, 0.0, "%g + px" % cx], [0.0, "%g*f" % fy, cy], [0.0, 0.0, 1.0]]
+    cameras[4]["pose"] = [{"translate": [0, 0, "dz"]}]
+    write_asset("focal", {
+        "parameters": {"x": uniform(-0.5, 0.5), "y": uniform(-0.5, 0.5), "yaw": uniform(-45, 45),
+                       "w": uniform(0.3, 1.5), "d": uniform(0.3, 1.5), "h": uniform(0.2, 1.0),
+                       "f": uniform(0.9, 1.1), "px": uniform(-20, 20), "dz": uniform(-0.2, 0.2)},
+        "nodes": [GROUND,
+                  {"name": "box", "primitive": "box", "albedo": "textures/box.png",
+                   "transforms": [{"translate": ["x", "y", 0]}, {"rotate": [0, 0, "yaw"]},
+                                  {"scale": ["w", "d", "h"]}]}],
+        "likelihood": {"kind": "surface", "sigma": 8.0, "weights": "angle", "atlas": 256, "levels": 3},
+        "sampler": {"iterations": 300, "chains": 4, "batch": 16, "seed": 1},
+    }, {"x": 0.12, "y": -0.08, "yaw": 17.0, "w": 0.8, "d": 0.6, "h": 0.5, "f": 1.04, "px": 6.0, "dz": 0.08},
+        cameras,
+        dict(ground_tex, **{"box.png": lambda p: texture(p, 2, (0.7, 0.35, 0.25))}))
 
 
 if __name__ == "__main__":
