@@ -16,6 +16,7 @@
 #include "optimiser/Sampler.h"
 #include "pipelines/LikelihoodTool.h"
 #include "pipelines/ModelExport.h"
+#include "pipelines/NoiseCalibration.h"
 #include "pipelines/SurfaceLikelihood.h"
 
 namespace fs = std::filesystem;
@@ -26,21 +27,34 @@ namespace {
 
 std::atomic<bool> g_stop{false};
 
-// The sampler's view of a likelihood: a batch of Ψ in, log likelihood + occlusion prior out.
+// The sampler's view of a likelihood: a batch of Ψ in, log likelihood + occlusion prior out,
+// divided by the sandwich factor κ once the run has settled at the mode and calibrated the
+// noise model there (NoiseCalibration.h).
 class LikelihoodTarget : public opt::Target {
  public:
-  explicit LikelihoodTarget(Likelihood& likelihood) : likelihood_(likelihood) {}
+  LikelihoodTarget(Likelihood& likelihood, bool estimate_sigma)
+      : likelihood_(likelihood), estimate_sigma_(estimate_sigma) {}
   int max_batch() const override { return likelihood_.max_batch(); }
   int levels() const override { return likelihood_.levels(); }
   void SetLevel(int level) override { likelihood_.SetLevel(level); }
   std::vector<double> Evaluate(const std::vector<std::vector<double>>& batch) override {
     std::vector<double> out;
-    for (const Evaluation& e : likelihood_.Evaluate(batch)) out.push_back(e.total());
+    for (const Evaluation& e : likelihood_.Evaluate(batch)) out.push_back(e.total() / calibration_.kappa);
     return out;
+  }
+  nlohmann::json Calibrate(const std::vector<double>& psi, const std::vector<double>& covariance) override {
+    calibration_ = CalibrateNoise(likelihood_, psi, covariance, calibration_.kappa, estimate_sigma_);
+    return ToJson(calibration_);
+  }
+  void RestoreCalibration(const nlohmann::json& calibration) override {
+    calibration_ = NoiseCalibrationFromJson(calibration);
+    likelihood_.SetSigma(calibration_.sigma);
   }
 
  private:
   Likelihood& likelihood_;
+  bool estimate_sigma_;
+  NoiseCalibration calibration_;  // κ = 1 until calibrated
 };
 
 std::vector<opt::ParameterSpec> ParameterSpecs(const Scene& scene) {
@@ -146,13 +160,23 @@ void PreflightVisibility(const Scene& scene, Likelihood& likelihood) {
                      "see nothing of the scene (check poses, priors and images)");
 }
 
+// Colours of an encoded 8-bit image disagreeing by this much (0–255 scale) are no longer
+// noise: with `sigma: auto` the fit is judged by σ itself, since S/σ²/N is then 1.
+constexpr double kImplausibleSigma = 40.0;
+
+// The σ (0–255) the run ended with: estimated at the mode with `sigma: auto`, else the given one.
+double SigmaUsed(const Scene& scene, const opt::SamplerSummary& s) {
+  if (s.calibration.is_object() && s.calibration.contains("sigma")) return s.calibration["sigma"].get<double>();
+  return scene.likelihood.sigma;
+}
+
 // What the numbers at the MAP say about the fit, in sentences.
 std::vector<std::string> Diagnose(const Scene& scene, const Evaluation& at_map, const opt::SamplerSummary& s,
                                   bool* ok) {
   std::vector<std::string> notes;
   *ok = true;
-  const double sigma = scene.likelihood.sigma / 255.0;
-  const double chi2 = at_map.scalars.dof > 0 ? at_map.scalars.sum_squares / (sigma * sigma) / at_map.scalars.dof : NAN;
+  const double sigma_255 = SigmaUsed(scene, s);
+  const double chi2 = Chi2PerDof(at_map.scalars, sigma_255);
   const double surface = double(at_map.scalars.seen_multi) + at_map.scalars.seen_once + at_map.scalars.seen_none;
   if (!(at_map.scalars.seen_multi > 0.05 * surface)) {
     *ok = false;
@@ -164,8 +188,13 @@ std::vector<std::string> Diagnose(const Scene& scene, const Evaluation& at_map, 
     std::snprintf(buf, sizeof buf,
                   "the views disagree far beyond the noise at the MAP (chi2 per dof %.2f with sigma %.1f): the "
                   "model does not explain the images",
-                  chi2, scene.likelihood.sigma);
+                  chi2, sigma_255);
     notes.push_back(buf);
+  }
+  if (scene.likelihood.sigma_auto && !(sigma_255 < kImplausibleSigma)) {
+    *ok = false;
+    notes.push_back("the views disagree by sigma " + std::to_string(sigma_255) +
+                    " (0-255) at the MAP, far beyond camera noise: the model does not explain the images");
   }
   for (size_t i = 0; i < s.parameters.size() && i < scene.parameters.size(); ++i) {
     const Prior& prior = scene.parameters[i].prior;
@@ -194,15 +223,21 @@ ReconstructResult Reconstruct(const ReconstructOptions& options, vk::Device& dev
   LikelihoodSetup setup;
   setup.max_batch = scene.sampler.batch;
   std::unique_ptr<Likelihood> likelihood = MakeLikelihood(device, scene, setup);
-  LikelihoodTarget target(*likelihood);
+  LikelihoodTarget target(*likelihood, scene.likelihood.sigma_auto);
 
   opt::SamplerOptions sampler_options;
+  sampler_options.coarse_levels = likelihood->levels();
+  sampler_options.temperatures = std::max(1, scene.sampler.batch / scene.sampler.chains);
+  {
+    std::string why;
+    const nlohmann::json extra = nlohmann::json::parse(scene.sampler.options_json);
+    if (!opt::FromJson(extra, &sampler_options, &why))  // why names sampler.FIELD when it can
+      throw InputError(scene.file.string(), why.rfind("sampler.", 0) == 0 ? "" : "sampler", why);
+  }
   sampler_options.iterations = scene.sampler.iterations;
   sampler_options.chains = scene.sampler.chains;
   sampler_options.seed = scene.sampler.seed;
-  sampler_options.temperatures =
-      options.temperatures > 0 ? options.temperatures : std::max(1, scene.sampler.batch / scene.sampler.chains);
-  sampler_options.coarse_levels = likelihood->levels();
+  if (options.temperatures > 0) sampler_options.temperatures = options.temperatures;
 
   std::unique_ptr<opt::Sampler> sampler;
   if (options.resume) {
@@ -261,6 +296,7 @@ ReconstructResult Reconstruct(const ReconstructOptions& options, vk::Device& dev
   likelihood.reset();
   SurfaceLikelihoodOptions surface = SurfaceLikelihoodOptions::FromScene(scene);
   surface.max_batch = 1;
+  surface.model.sigma = SigmaUsed(scene, summary);
   SurfaceLikelihood outputs(device, scene, surface);
   Evaluation at_map;
   const SurfaceDump dump = outputs.EvaluateAndDump(summary.map, &at_map);
@@ -270,16 +306,15 @@ ReconstructResult Reconstruct(const ReconstructOptions& options, vk::Device& dev
   map["settings"] = {{"scene", fs::absolute(options.scene_file).string()},
                      {"overrides", nlohmann::json::array()},
                      {"device", device.name()},
-                     {"likelihood", {{"kind", scene.likelihood.kind}, {"sigma", scene.likelihood.sigma},
+                     {"likelihood", {{"kind", scene.likelihood.kind},
+                                     {"sigma", scene.likelihood.sigma_auto ? nlohmann::json("auto")
+                                                                           : nlohmann::json(scene.likelihood.sigma)},
                                      {"weights", scene.likelihood.weights}, {"atlas", scene.likelihood.atlas},
                                      {"levels", scene.likelihood.levels}}},
                      {"sampler", opt::ToJson(sampler_options)}};
   for (const SceneOverride& o : options.overrides) map["settings"]["overrides"].push_back(o.path + "=" + o.value);
   map["diagnosis"] = {{"ok", result.diagnosis_ok}, {"notes", result.notes},
-                      {"chi2_per_dof", at_map.scalars.dof > 0 ? at_map.scalars.sum_squares /
-                                                                    std::pow(scene.likelihood.sigma / 255.0, 2) /
-                                                                    at_map.scalars.dof
-                                                              : 0.0}};
+                      {"chi2_per_dof", at_map.scalars.dof > 0 ? Chi2PerDof(at_map.scalars, SigmaUsed(scene, summary)) : 0.0}};
   result.map_json = options.output_dir / "map.json";
   WriteAtomically(result.map_json, map.dump(2) + "\n");
   scene.WriteValues(options.output_dir / "at_map.json", summary.map);  // for render --at

@@ -127,7 +127,7 @@ json StateToJson(const State& s) {
                  {"candidate", Numbers(r.candidate)},
                  {"step_scale", JsonNumber(r.step_scale)}};
 
-  j["settle"] = {{"settled", s.settled},
+  j["settle"] = {{"rounds", s.settle_rounds},
                 {"calibration", s.calibration},
                 {"laplace", s.laplace.size() ? Matrix(s.laplace) : json::array()}};
 
@@ -229,7 +229,7 @@ State StateFromJson(const json& j) {
     r.step_scale = ReadNumber(jr.at("step_scale"));
     if (!jr.at("inverse_hessian").empty()) r.inverse_hessian = ReadMatrix(jr.at("inverse_hessian"), d);
     const json& settle = j.at("settle");
-    s.settled = settle.at("settled").get<bool>();
+    s.settle_rounds = settle.at("rounds").get<int>();
     s.calibration = settle.at("calibration");
     if (!settle.at("laplace").empty()) s.laplace = ReadMatrix(settle.at("laplace"), d);
     if ((s.phase == Phase::Refining || s.phase == Phase::Settling || s.phase == Phase::Restarting) &&

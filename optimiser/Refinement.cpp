@@ -171,7 +171,8 @@ void RefineFrame(State& s, const BatchEvaluator& evaluate) {
     moved = std::max(moved, std::abs(next[i] - r.psi[i]) / p.Width());
   }
   r.candidate = std::move(next);
-  if (!(moved >= s.options.refine_tolerance) || r.step >= s.options.refine_steps)
+  const int steps = s.phase == Phase::Settling ? s.options.settle_steps : s.options.refine_steps;
+  if (!(moved >= s.options.refine_tolerance) || r.step >= steps)
     FinishRefinement(s);
 }
 

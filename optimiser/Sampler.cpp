@@ -65,7 +65,12 @@ int State::AdaptStart() const {
 }
 
 bool State::SettlesAt(int t) const {
-  return options.settle && !settled && t == AdaptStart() && t < options.BurnIn();
+  if (!options.settle || settle_rounds >= options.settle_rounds) return false;
+  // Rounds evenly spaced over the first half of what lies between the end of the
+  // exploration and the end of the burn-in; the second half tunes the proposal.
+  const int start = AdaptStart(), end = options.BurnIn();
+  const int at = start + int(int64_t(end - start) * settle_rounds / (2 * options.settle_rounds));
+  return t == at && t < end;
 }
 
 void State::ConsiderBest(const std::vector<double>& psi, double log_prior, double log_likelihood) {
@@ -200,6 +205,9 @@ struct Engine {
         }
       }
       cov *= 2.38 * 2.38 / double(d);
+      // After settling the burn-in's tuning scales the adapted proposal too: a likelihood
+      // that is rough below its curvature's scale wants smaller steps than 2.38/√d.
+      if (s.laplace.rows() == d) cov *= std::exp(2.0 * r.log_scale);
       const Eigen::LLT<Eigen::MatrixXd> llt(cov);
       if (llt.info() == Eigen::Success) {
         step = llt.matrixL() * z;
@@ -235,7 +243,7 @@ struct Engine {
       // Exploration is over: find the mode (SamplerOptions::settle). This frame is the
       // refinement's first, or with no refinement steps the restart itself.
       StartRefinement(s);
-      if (s.options.refine_steps > 0) {
+      if (s.options.settle_steps > 0) {
         s.phase = Phase::Settling;
         RefineFrame(s, [this](const auto& batch) { return Evaluate(batch); });
       } else {
@@ -275,8 +283,10 @@ struct Engine {
         const double proposed = lp + ll / temperature[k];
         const bool accept = scored && (current == -kInf || log_u < proposed - current);
         if (t < s.options.BurnIn()) {
-          // Robbins–Monro towards 0.234 acceptance (Replica::log_scale), burn-in only.
-          const double gain = 1.0 / std::sqrt(double(r.proposed));
+          // Robbins–Monro towards 0.234 acceptance (Replica::log_scale), burn-in only. After a
+          // settling restart the gain starts afresh (adapt_count counts the iterations since).
+          const double n = s.laplace.rows() == d ? double(r.adapt_count + 1) : double(r.proposed);
+          const double gain = 1.0 / std::sqrt(n);
           r.log_scale = std::clamp(r.log_scale + gain * ((accept ? 1.0 : 0.0) - 0.234), -12.0, 3.0);
         }
         if (!scored) continue;

@@ -34,6 +34,8 @@ void ForEachField(Options& o, F&& f) {
   f("coarse_levels", o.coarse_levels);
   f("coarse_fraction", o.coarse_fraction);
   f("settle", o.settle);
+  f("settle_rounds", o.settle_rounds);
+  f("settle_steps", o.settle_steps);
   f("settle_spread", o.settle_spread);
   f("refine_steps", o.refine_steps);
   f("refine_difference", o.refine_difference);
@@ -93,6 +95,8 @@ bool SamplerOptions::IsValid(std::string* why) const {
     return OptionsFail(why, "adapt_epsilon must be > 0");
   if (coarse_levels < 1) return OptionsFail(why, "coarse_levels must be ≥ 1");
   if (refine_steps < 0) return OptionsFail(why, "refine_steps must be ≥ 0");
+  if (settle_rounds < 1) return OptionsFail(why, "settle_rounds must be ≥ 1");
+  if (settle_steps < 0) return OptionsFail(why, "settle_steps must be ≥ 0");
   if (!(std::isfinite(settle_spread) && settle_spread > 0.0))
     return OptionsFail(why, "settle_spread must be > 0");
   if (!(std::isfinite(refine_difference) && refine_difference > 0.0 && refine_difference < 0.5))

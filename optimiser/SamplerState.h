@@ -82,9 +82,9 @@ struct State {
   Best best;
   double sampling_best = -kInf;  // best log posterior when sampling ended
   RefineState refine;
-  // Settling (SamplerOptions::settle): done yet; the target's calibration (null: none);
-  // the Laplace covariance at the mode (empty before settling or without it).
-  bool settled = false;
+  // Settling (SamplerOptions::settle): rounds done; the target's calibration (null: none);
+  // the Laplace covariance at the last mode (empty before settling or without it).
+  int settle_rounds = 0;
   nlohmann::json calibration;
   Eigen::MatrixXd laplace;
   std::vector<Sample> samples;  // iteration-major: all chains of iteration 0, then 1, …

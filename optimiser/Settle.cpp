@@ -1,6 +1,7 @@
 // Settling (SamplerOptions::settle): the frame after the mid-run refinement has found the
-// mode. The target recalibrates its noise model at the mode, the curvature of the log
-// posterior there is measured by central finite differences, and every replica restarts
+// mode. The curvature of the log posterior there is measured by central finite
+// differences, the target recalibrates its noise model at the mode given that curvature
+// (and the curvature is measured again if it did), and every replica restarts
 // around the mode, drawn from the Laplace approximation N(mode, spread² · T · Σ) with
 // Σ = (−∇² log p)⁻¹. Σ is also each replica's proposal covariance until the adaptation
 // has collected enough states.
@@ -110,12 +111,18 @@ Eigen::MatrixXd FallbackCovariance(const State& s) {
 void RestartFrame(State& s, Target& target, const BatchEvaluator& evaluate) {
   const int d = s.dimension();
   const std::vector<double> mode = s.refine.have_point ? s.refine.psi : s.best.psi;
-  s.calibration = target.Calibrate(mode);
-
   double mode_log_likelihood = -kInf;
-  const Eigen::MatrixXd curvature = NegativeHessian(s, mode, evaluate, &mode_log_likelihood);
-  s.laplace = curvature.size() ? LaplaceCovariance(s, curvature) : Eigen::MatrixXd();
-  if (s.laplace.size() == 0) s.laplace = FallbackCovariance(s);
+  const auto measure = [&] {
+    const Eigen::MatrixXd curvature = NegativeHessian(s, mode, evaluate, &mode_log_likelihood);
+    s.laplace = curvature.size() ? LaplaceCovariance(s, curvature) : Eigen::MatrixXd();
+    if (s.laplace.size() == 0) s.laplace = FallbackCovariance(s);
+  };
+  measure();
+  std::vector<double> covariance;
+  for (int i = 0; i < s.laplace.rows(); ++i)
+    for (int k = 0; k < s.laplace.cols(); ++k) covariance.push_back(s.laplace(i, k));
+  s.calibration = target.Calibrate(mode, covariance);
+  if (!s.calibration.is_null()) measure();  // the log posterior changed: measure it again
 
   // Log-likelihoods before the calibration are not comparable with those after it.
   s.best = Best{};
@@ -153,11 +160,15 @@ void RestartFrame(State& s, Target& target, const BatchEvaluator& evaluate) {
         r.log_likelihood = mode_log_likelihood;
       }
       s.ConsiderBest(r.psi, r.log_prior, r.log_likelihood);
-      // The Laplace covariance already has the posterior's scale.
+      // The Laplace covariance already has the posterior's scale, and the states adaptation
+      // collected belong to the previous round's neighbourhood.
       r.log_scale = 0.0;
+      r.adapt_count = 0;
+      r.adapt_mean.setZero();
+      r.adapt_scatter.setZero();
       ++i;
     }
-  s.settled = true;
+  ++s.settle_rounds;
   s.phase = Phase::Sampling;
 }
 

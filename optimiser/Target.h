@@ -27,13 +27,16 @@ class Target {
   // that cannot be scored: the sampler rejects it. Must return batch.size() values.
   virtual std::vector<double> Evaluate(const std::vector<std::vector<double>>& batch) = 0;
 
-  // Nuisance parameters of the likelihood — its noise level, how many samples are really
-  // independent — estimated at ψ, which the sampler takes to be the mode it found once the
-  // exploration is over. Afterwards Evaluate() scores with them. Returns what was
-  // estimated (kept in checkpoints and map.json), null when the target has nothing to
-  // estimate; RestoreCalibration puts a returned value back when a run resumes.
-  virtual nlohmann::json Calibrate(const std::vector<double>& psi) {
+  // Nuisance parameters of the likelihood — its noise level, how much evidence its samples
+  // really carry — estimated at ψ, the mode the sampler found once the exploration is over;
+  // `covariance` (d × d, row-major) is the inverse curvature of the log posterior measured
+  // there, as the target scored so far (after an earlier calibration, with it). Afterwards
+  // Evaluate() scores with them. Returns what was estimated (kept
+  // in checkpoints and map.json), null when the target has nothing to estimate;
+  // RestoreCalibration puts a returned value back when a run resumes.
+  virtual nlohmann::json Calibrate(const std::vector<double>& psi, const std::vector<double>& covariance) {
     (void)psi;
+    (void)covariance;
     return nullptr;
   }
   virtual void RestoreCalibration(const nlohmann::json& calibration) { (void)calibration; }

@@ -1,6 +1,14 @@
 #include "pipelines/Evaluation.h"
 
+#include <limits>
+
 namespace vkr {
+
+double Chi2PerDof(const ReducedScalars& scalars, double sigma_255) {
+  const double sigma = sigma_255 / 255.0;
+  return scalars.dof > 0 ? scalars.sum_squares / (sigma * sigma) / scalars.dof
+                         : std::numeric_limits<double>::quiet_NaN();
+}
 
 Evaluation Score(const ReducedScalars& scalars, const LikelihoodModel& model) {
   const double sigma = model.sigma / 255.0;

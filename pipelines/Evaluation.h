@@ -51,6 +51,10 @@ struct Evaluation {
   double total() const { return log_likelihood + log_occlusion_prior; }
 };
 
+// S/σ²/N at σ (0–255 scale): 1 when the views disagree exactly as much as noise σ makes
+// them; NaN without degrees of freedom.
+double Chi2PerDof(const ReducedScalars& scalars, double sigma_255);
+
 // −½ (S/σ² − N) with the correction, −½ S/σ² without; σ converted from the 0–255 scale.
 Evaluation Score(const ReducedScalars& scalars, const LikelihoodModel& model);
 

@@ -265,6 +265,12 @@ ImageLikelihood::ImageLikelihood(vk::Device& device, const Scene& scene, const I
 
 ImageLikelihood::~ImageLikelihood() = default;
 
+void ImageLikelihood::SetSigma(double sigma_255) {
+  if (!(std::isfinite(sigma_255) && sigma_255 > 0.0))
+    throw std::invalid_argument("ImageLikelihood::SetSigma: sigma must be > 0");
+  impl_->options.model.sigma = sigma_255;
+}
+
 void ImageLikelihood::SetLevel(int level) {
   if (level < 0 || level >= impl_->options.levels)
     throw std::out_of_range("ImageLikelihood::SetLevel: level " + std::to_string(level) + " of " +

@@ -98,6 +98,8 @@ class ImageLikelihood {
 
   // Pyramid level used by the next evaluations (0 = full resolution).
   void SetLevel(int level);
+  // Noise σ (0–255 scale, > 0) of the next evaluations; `sigma: auto` runs estimate it.
+  void SetSigma(double sigma_255);
   int level() const;
   int levels() const;
 

@@ -45,6 +45,8 @@ class Likelihood {
   virtual void SetLevel(int level) = 0;
   virtual int level() const = 0;
   virtual int levels() const = 0;
+  // Noise σ (0–255 scale) of the next evaluations: `sigma: auto` estimates it at the mode.
+  virtual void SetSigma(double sigma_255) = 0;
 
   // One evaluation per hypothesis, in one GPU submission; batch.size() ≤ max_batch().
   virtual std::vector<Evaluation> Evaluate(const std::vector<std::vector<double>>& batch) = 0;

@@ -32,6 +32,7 @@ class Adapter : public Likelihood {
   void SetLevel(int level) override { likelihood_.SetLevel(level); }
   int level() const override { return likelihood_.level(); }
   int levels() const override { return likelihood_.levels(); }
+  void SetSigma(double sigma_255) override { likelihood_.SetSigma(sigma_255); }
   std::vector<Evaluation> Evaluate(const std::vector<std::vector<double>>& batch) override {
     return likelihood_.Evaluate(batch);
   }
@@ -126,11 +127,6 @@ std::string Number(double x) {
   return std::string(text, result.ptr);
 }
 
-double Chi2PerDof(const Evaluation& e, double sigma_255) {
-  const double sigma = sigma_255 / 255.0;
-  return e.scalars.dof > 0 ? e.scalars.sum_squares / (sigma * sigma) / e.scalars.dof
-                           : std::numeric_limits<double>::quiet_NaN();
-}
 
 PassProfile ProfileBatch(Likelihood& likelihood, const std::vector<double>& psi, int repeats) {
   PassProfile p;
@@ -247,7 +243,7 @@ LikelihoodReport EvaluateAt(const LikelihoodToolOptions& options, vk::Device& de
   } else {
     r.evaluation = s.likelihood->Evaluate({s.at}).at(0);
   }
-  r.chi2_per_dof = Chi2PerDof(r.evaluation, r.sigma);
+  r.chi2_per_dof = Chi2PerDof(r.evaluation.scalars, r.sigma);
   if (options.dump_dir) {
     const fs::path file = *options.dump_dir / "evaluation.json";
     WriteEvaluationJson(file, options, s, r);

@@ -233,6 +233,12 @@ SurfaceLikelihood::SurfaceLikelihood(vk::Device& device, const Scene& scene,
 
 SurfaceLikelihood::~SurfaceLikelihood() = default;
 
+void SurfaceLikelihood::SetSigma(double sigma_255) {
+  if (!(std::isfinite(sigma_255) && sigma_255 > 0.0))
+    throw std::invalid_argument("SurfaceLikelihood::SetSigma: sigma must be > 0");
+  impl_->options.model.sigma = sigma_255;
+}
+
 void SurfaceLikelihood::SetLevel(int level) {
   if (level < 0 || level >= impl_->options.levels)
     throw std::out_of_range("SurfaceLikelihood::SetLevel: level " + std::to_string(level) + " of " +

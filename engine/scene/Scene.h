@@ -120,6 +120,9 @@ struct SamplerSettings {
   int chains = 4;
   int batch = 16;
   std::uint64_t seed = 1;
+  // Any further fields of the scene's "sampler" object as JSON text ("{}" when none):
+  // SamplerOptions by name, validated by `vkrecon run` (docs/SCENE_FORMAT.md).
+  std::string options_json = "{}";
 };
 
 class Scene {

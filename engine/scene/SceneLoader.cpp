@@ -94,7 +94,12 @@ void ReadLikelihood(const Reader& r, const Json& j, LikelihoodSettings& s) {
 }
 
 void ReadSampler(const Reader& r, const Json& j, SamplerSettings& s) {
-  r.CheckObject(j, "sampler", {"iterations", "chains", "batch", "seed"});
+  if (!j.is_object()) r.Fail("sampler", "must be an object");
+  // The four every command needs are read here; the sampler's other options (optimiser/
+  // SamplerOptions.h) travel as text and are checked by `vkrecon run`, which knows them.
+  Json rest = j;
+  for (const char* key : {"iterations", "chains", "batch", "seed"}) rest.erase(key);
+  s.options_json = rest.dump();
   if (auto it = j.find("iterations"); it != j.end())
     s.iterations = int(r.Integer(*it, "sampler.iterations", 1, INT_MAX));
   if (auto it = j.find("chains"); it != j.end())

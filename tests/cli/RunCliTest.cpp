@@ -5,6 +5,7 @@
 #include <signal.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <filesystem>
 #include <nlohmann/json.hpp>
@@ -64,6 +65,11 @@ TEST(RunCli, KilledRunResumesToTheSameResult) {
   ASSERT_EQ(resumed.exit_status, 0) << resumed.err;
   const nlohmann::json a = ReadJson(dir / "straight/map.json"), b = ReadJson(out / "map.json");
   EXPECT_EQ(a["parameters"], b["parameters"]);  // bit-identical numbers
+  // The asset estimates σ at the mode (`sigma: auto`), and the resumed run kept it.
+  EXPECT_EQ(a["calibration"], b["calibration"]);
+  EXPECT_TRUE(a["calibration"]["sigma_estimated"].get<bool>());
+  EXPECT_GT(a["calibration"]["kappa"].get<double>(), 0.0);
+  EXPECT_EQ(a["settings"]["likelihood"]["sigma"], "auto");
   EXPECT_EQ(test::ReadText(dir / "straight/chain.csv"), test::ReadText(out / "chain.csv"));
   for (const char* f : {"composite.exr", "composite.png", "model.glb", "chain.csv"}) EXPECT_TRUE(fs::exists(out / f)) << f;
 }
@@ -80,6 +86,26 @@ TEST(RunCli, CamerasThatSeeNothingAreRefusedWithAReason) {
                             " -o " + Q(dir / "out"));
   EXPECT_EQ(r.exit_status, 2) << r.err;
   EXPECT_NE(r.err.find("see nothing"), std::string::npos) << r.err;
+}
+
+TEST(RunCli, BadSamplerOptionsAreBadInputNamingTheField) {
+  test::TempDir dir;
+  ASSERT_EQ(RunCommand(kVkrecon + " synth -q " + Q(kBox / "scene.json") + " --at " + Q(kBox / "truth.json") +
+                       " --scale 0.25 -o " + Q(dir / "images"))
+                .exit_status,
+            0);
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"sampler.bogus=1", "sampler.bogus: unknown option"},
+      {"sampler.settle=3", "sampler.settle: expected true or false"},
+      {"sampler.settle_rounds=0", "settle_rounds must be"},
+  };
+  for (const auto& [set, message] : cases) {
+    const auto r = RunCommand(SmallRun(dir) + " --set " + set + " -o " + Q(dir / "out"));
+    EXPECT_EQ(r.exit_status, 2) << set << ": " << r.err;
+    EXPECT_NE(r.err.find("scene.json: "), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find(message), std::string::npos) << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << "one line: " << r.err;
+  }
 }
 
 TEST(RunCli, ResumeWithoutACheckpointIsBadInput) {

@@ -38,6 +38,7 @@ SamplerOptions Options() {
   o.init_jitter = 0.05;
   o.adapt_min_samples = 10;
   o.refine_steps = 8;
+  o.settle_steps = 2;  // leaves the final refinement steps to interrupt
   o.seed = 99;
   return o;
 }

@@ -35,10 +35,13 @@ TEST(SamplerOptions, IsValidRejectsBadOptionsWithAReason) {
       {[](SamplerOptions& o) { o.swap_interval = 0; }, "swap_interval"},
       {[](SamplerOptions& o) { o.initial_temperature = 0.5; }, "initial_temperature"},
       {[](SamplerOptions& o) { o.anneal_fraction = 1.0; }, "anneal_fraction"},
-      {[](SamplerOptions& o) { o.anneal_fraction = 0.6; }, "anneal_fraction"},  // > burn-in
+      {[](SamplerOptions& o) { o.anneal_fraction = 0.7; }, "anneal_fraction"},  // > burn-in
       {[](SamplerOptions& o) { o.burn_in_fraction = -0.1; }, "burn_in_fraction"},
       {[](SamplerOptions& o) { o.burn_in_fraction = 1.0; }, "burn_in_fraction"},
       {[](SamplerOptions& o) { o.coarse_fraction = 0.7; }, "coarse_fraction"},  // > burn-in
+      {[](SamplerOptions& o) { o.settle_rounds = 0; }, "settle_rounds"},
+      {[](SamplerOptions& o) { o.settle_steps = -1; }, "settle_steps"},
+      {[](SamplerOptions& o) { o.settle_spread = 0.0; }, "settle_spread"},
       {[](SamplerOptions& o) { o.proposal_scale = 0.0; }, "proposal_scale"},
       {[](SamplerOptions& o) { o.init_jitter = -1.0; }, "init_jitter"},
       {[](SamplerOptions& o) { o.adapt_min_samples = 1; }, "adapt_min_samples"},

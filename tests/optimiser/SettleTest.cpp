@@ -40,15 +40,16 @@ class CalibratingTarget : public Target {
     for (const auto& psi : batch) out.push_back(g_(psi) / scale_);
     return out;
   }
-  nlohmann::json Calibrate(const std::vector<double>& psi) override {
+  nlohmann::json Calibrate(const std::vector<double>& psi, const std::vector<double>& covariance) override {
     calibrated_at = psi;
+    covariance_given = covariance;
     scale_ = kappa_;
     return {{"kappa", kappa_}};
   }
   void RestoreCalibration(const nlohmann::json& calibration) override {
     scale_ = calibration.at("kappa").get<double>();
   }
-  std::vector<double> calibrated_at;
+  std::vector<double> calibrated_at, covariance_given;
 
  private:
   Gaussian g_;
@@ -110,6 +111,10 @@ TEST(Settle, CalibrationAtTheModeWidensThePosteriorAndSurvivesResume) {
   for (int i = 0; i < 4; ++i) {
     SCOPED_TRACE(i);
     EXPECT_NEAR(target.calibrated_at[size_t(i)], n.mu[i], n.sd[i]);  // calibrated at the mode
+    // …given the curvature there as the target scores: the last of the two rounds sees
+    // the calibrated posterior, κ times wider in variance.
+    ASSERT_EQ(target.covariance_given.size(), 16u);
+    EXPECT_NEAR(target.covariance_given[size_t(5 * i)], 4.0 * n.sd[i] * n.sd[i], 0.4 * n.sd[i] * n.sd[i]);
     EXPECT_NEAR(s.parameters[size_t(i)].laplace_sd, 2.0 * n.sd[i], 0.1 * n.sd[i]);  // √κ wider
     EXPECT_NEAR(s.parameters[size_t(i)].sd, 2.0 * n.sd[i], 0.6 * n.sd[i]);
   }

@@ -1,0 +1,48 @@
+#pragma once
+// The noise model's nuisance parameters, estimated at the mode a run settles on (docs/
+// LIKELIHOOD.md, "Honest intervals"). Two things make the textbook likelihood overconfident
+// on photographs:
+//   - σ: the configured noise may not be the images' (`"sigma": "auto"` estimates it as the
+//     σ at which the deviations at the mode are exactly as large as expected, S/σ² = N).
+//     It also balances the χ² correction, which is calibrated only when S/σ² ≈ N;
+//   - κ: neighbouring atlas texels are not independent samples (bilinear and mip-filtered
+//     reads share pixels, and whatever the model does not explain — resampling, shading,
+//     blur, calibration — is smooth across the surface), so the curvature H of the
+//     log-likelihood overstates the evidence. The block sandwich (Huber–White) estimator
+//     measures the real variability of the score: J = Σ_b G_b G_bᵀ, G_b the gradient of
+//     the log-likelihood summed over a block of 8×8 texels, from per-texel deviations at
+//     ψ ± one sd of each parameter. The robust covariance is H⁻¹ J H⁻¹; the log-likelihood
+//     is divided by κ = tr(H⁻¹J)/d (a magnitude adjustment), so the posterior the chains
+//     sample has that covariance on average over directions. κ does not depend on σ (J
+//     scales as σ⁻⁴, H as σ⁻²): intervals follow the deviations actually found.
+
+#include <string>
+#include <vector>
+
+#include <nlohmann/json_fwd.hpp>
+
+#include "pipelines/Likelihood.h"
+
+namespace vkr {
+
+struct NoiseCalibration {
+  double sigma = 8.0;            // noise sd on the 0–255 scale, used after calibration
+  bool sigma_estimated = false;  // estimated (`sigma: auto`) rather than given
+  double kappa = 1.0;            // the log-likelihood is divided by it
+  double kappa_min = 1.0, kappa_max = 1.0;  // eigenvalue range of H⁻¹J (a report)
+  int blocks = 0;                // blocks of texels that carried a gradient
+  double chi2_per_dof = 0.0;     // S/σ²/N at the mode with the σ above
+};
+
+nlohmann::json ToJson(const NoiseCalibration& calibration);
+NoiseCalibration NoiseCalibrationFromJson(const nlohmann::json& json);  // throws std::invalid_argument
+
+// At ψ (level 0): σ by fixed-point iteration σ² ← S/N when `estimate_sigma` (left set in
+// the likelihood), floored at `sigma_floor`; then κ. `covariance` (d × d row-major) is the
+// inverse curvature of log L / `current_kappa` at ψ with the σ the likelihood had; an empty
+// one, or a likelihood whose dumps carry no deviation image (image-space kind), leaves κ = 1.
+NoiseCalibration CalibrateNoise(Likelihood& likelihood, const std::vector<double>& psi,
+                                const std::vector<double>& covariance, double current_kappa,
+                                bool estimate_sigma, double sigma_floor = 0.5);
+
+}  // namespace vkr
