@@ -160,9 +160,22 @@ void PreflightVisibility(const Scene& scene, Likelihood& likelihood) {
                      "see nothing of the scene (check poses, priors and images)");
 }
 
-// Colours of an encoded 8-bit image disagreeing by this much (0–255 scale) are no longer
-// noise: with `sigma: auto` the fit is judged by σ itself, since S/σ²/N is then 1.
-constexpr double kImplausibleSigma = 40.0;
+// A model textured with the composite that differs from the photographs by this RMS
+// (0–255 scale) where it covers them explains nothing: camera noise is a few units, JPEG
+// and lighting add ten or twenty. (σ itself cannot tell: it is the noise of prefiltered
+// samples, which averages pixels — images of pure noise of sd 120 give σ ≈ 11.)
+constexpr double kImplausibleRms = 48.0;
+
+// Over every camera's covered pixels.
+double ReprojectionRms(const std::vector<Reprojection>& reprojections) {
+  double squares = 0.0;
+  int64_t pixels = 0;
+  for (const Reprojection& r : reprojections) {
+    squares += r.rms_255 * r.rms_255 * double(r.pixels);
+    pixels += r.pixels;
+  }
+  return pixels ? std::sqrt(squares / double(pixels)) : 0.0;
+}
 
 // The σ (0–255) the run ended with: estimated at the mode with `sigma: auto`, else the given one.
 double SigmaUsed(const Scene& scene, const opt::SamplerSummary& s) {
@@ -172,7 +185,7 @@ double SigmaUsed(const Scene& scene, const opt::SamplerSummary& s) {
 
 // What the numbers at the MAP say about the fit, in sentences.
 std::vector<std::string> Diagnose(const Scene& scene, const Evaluation& at_map, const opt::SamplerSummary& s,
-                                  bool* ok) {
+                                  const std::vector<Reprojection>& reprojections, bool* ok) {
   std::vector<std::string> notes;
   *ok = true;
   const double sigma_255 = SigmaUsed(scene, s);
@@ -191,10 +204,14 @@ std::vector<std::string> Diagnose(const Scene& scene, const Evaluation& at_map, 
                   chi2, sigma_255);
     notes.push_back(buf);
   }
-  if (scene.likelihood.sigma_auto && !(sigma_255 < kImplausibleSigma)) {
+  if (const double rms = ReprojectionRms(reprojections); !(rms < kImplausibleRms)) {
     *ok = false;
-    notes.push_back("the views disagree by sigma " + std::to_string(sigma_255) +
-                    " (0-255) at the MAP, far beyond camera noise: the model does not explain the images");
+    char buf[240];
+    std::snprintf(buf, sizeof buf,
+                  "the model textured with the composite differs from the photographs by RMS %.1f (0-255) "
+                  "where it covers them, far beyond camera noise: the model does not explain the images",
+                  rms);
+    notes.push_back(buf);
   }
   for (size_t i = 0; i < s.parameters.size() && i < scene.parameters.size(); ++i) {
     const Prior& prior = scene.parameters[i].prior;
@@ -300,7 +317,14 @@ ReconstructResult Reconstruct(const ReconstructOptions& options, vk::Device& dev
   SurfaceLikelihood outputs(device, scene, surface);
   Evaluation at_map;
   const SurfaceDump dump = outputs.EvaluateAndDump(summary.map, &at_map);
-  result.notes = Diagnose(scene, at_map, summary, &result.diagnosis_ok);
+  const Image composite = DilateAtlas(dump.composite);
+  WriteExr(options.output_dir / "composite.exr", composite);
+  WritePng(options.output_dir / "composite.png", composite);
+  const SceneGeometry geometry = BuildSceneGeometry(scene, scene.InitialValues(), surface.atlas);
+  WriteTexturedGlb(options.output_dir / "model.glb", scene, geometry, summary.map, composite);
+  const std::vector<Reprojection> reprojections =
+      WriteReprojections(options.output_dir / "reprojections", device, scene, geometry, summary.map, composite);
+  result.notes = Diagnose(scene, at_map, summary, reprojections, &result.diagnosis_ok);
 
   nlohmann::json map = opt::MapJson(summary);
   map["settings"] = {{"scene", fs::absolute(options.scene_file).string()},
@@ -313,8 +337,10 @@ ReconstructResult Reconstruct(const ReconstructOptions& options, vk::Device& dev
                                      {"levels", scene.likelihood.levels}}},
                      {"sampler", opt::ToJson(sampler_options)}};
   for (const SceneOverride& o : options.overrides) map["settings"]["overrides"].push_back(o.path + "=" + o.value);
-  map["diagnosis"] = {{"ok", result.diagnosis_ok}, {"notes", result.notes},
-                      {"chi2_per_dof", at_map.scalars.dof > 0 ? Chi2PerDof(at_map.scalars, SigmaUsed(scene, summary)) : 0.0}};
+  map["diagnosis"] = {{"ok", result.diagnosis_ok},
+                      {"notes", result.notes},
+                      {"chi2_per_dof", at_map.scalars.dof > 0 ? Chi2PerDof(at_map.scalars, SigmaUsed(scene, summary)) : 0.0},
+                      {"reprojection_rms", ReprojectionRms(reprojections)}};
   result.map_json = options.output_dir / "map.json";
   WriteAtomically(result.map_json, map.dump(2) + "\n");
   scene.WriteValues(options.output_dir / "at_map.json", summary.map);  // for render --at
@@ -323,12 +349,6 @@ ReconstructResult Reconstruct(const ReconstructOptions& options, vk::Device& dev
     csv.imbue(std::locale::classic());
     opt::WriteChainCsv(csv, summary.chain, sampler->parameters());
   }
-  const Image composite = DilateAtlas(dump.composite);
-  WriteExr(options.output_dir / "composite.exr", composite);
-  WritePng(options.output_dir / "composite.png", composite);
-  const SceneGeometry geometry = BuildSceneGeometry(scene, scene.InitialValues(), surface.atlas);
-  WriteTexturedGlb(options.output_dir / "model.glb", scene, geometry, summary.map, composite);
-  WriteReprojections(options.output_dir / "reprojections", device, scene, geometry, summary.map, composite);
   if (!options.quiet) std::cerr << summary.BriefReport() << "\n";
   return result;
 }

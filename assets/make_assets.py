@@ -141,6 +141,17 @@ GROUND = {"name": "ground", "primitive": "plane", "transforms": [{"scale": [5, 5
           "albedo": "textures/ground.png"}
 
 
+# The box asset's box, also the focal asset's.
+BOX_NODE = {"name": "box", "primitive": "box", "albedo": "textures/box.png",
+            "transforms": [{"translate": ["x", "y", 0]}, {"rotate": [0, 0, "yaw"]},
+                           {"scale": ["w", "d", "h"]}]}
+
+
+def box_parameters():
+    return {"x": uniform(-0.5, 0.5), "y": uniform(-0.5, 0.5), "yaw": uniform(-45, 45),
+            "w": uniform(0.3, 1.5), "d": uniform(0.3, 1.5), "h": uniform(0.2, 1.0)}
+
+
 def write_asset(name, scene, truth, cameras, textures):
     folder = os.path.join(HERE, name)
     os.makedirs(os.path.join(folder, "textures"), exist_ok=True)
@@ -164,12 +175,8 @@ def main():
 
     # box: a box on a ground plane, 9 cameras (thesis §7, Figs 7.12–7.14).
     write_asset("box", {
-        "parameters": {"x": uniform(-0.5, 0.5), "y": uniform(-0.5, 0.5), "yaw": uniform(-45, 45),
-                       "w": uniform(0.3, 1.5), "d": uniform(0.3, 1.5), "h": uniform(0.2, 1.0)},
-        "nodes": [GROUND,
-                  {"name": "box", "primitive": "box", "albedo": "textures/box.png",
-                   "transforms": [{"translate": ["x", "y", 0]}, {"rotate": [0, 0, "yaw"]},
-                                  {"scale": ["w", "d", "h"]}]}],
+        "parameters": box_parameters(),
+        "nodes": [GROUND, BOX_NODE],
         "likelihood": dict(LIKELIHOOD),
         "sampler": dict(SAMPLER),
     }, {"x": 0.12, "y": -0.08, "yaw": 17.0, "w": 0.8, "d": 0.6, "h": 0.5},
@@ -236,13 +243,9 @@ def main():
         cam["K"] = [["%g*f" % fx, 0.0, "%g + px" % cx], [0.0, "%g*f" % fy, cy], [0.0, 0.0, 1.0]]
     cameras[4]["pose"] = [{"translate": [0, 0, "dz"]}]
     write_asset("focal", {
-        "parameters": {"x": uniform(-0.5, 0.5), "y": uniform(-0.5, 0.5), "yaw": uniform(-45, 45),
-                       "w": uniform(0.3, 1.5), "d": uniform(0.3, 1.5), "h": uniform(0.2, 1.0),
-                       "f": uniform(0.9, 1.1), "px": uniform(-20, 20), "dz": uniform(-0.2, 0.2)},
-        "nodes": [GROUND,
-                  {"name": "box", "primitive": "box", "albedo": "textures/box.png",
-                   "transforms": [{"translate": ["x", "y", 0]}, {"rotate": [0, 0, "yaw"]},
-                                  {"scale": ["w", "d", "h"]}]}],
+        "parameters": dict(box_parameters(), f=uniform(0.9, 1.1), px=uniform(-20, 20),
+                           dz=uniform(-0.2, 0.2)),
+        "nodes": [GROUND, BOX_NODE],
         "likelihood": dict(LIKELIHOOD),
         "sampler": dict(SAMPLER),
     }, {"x": 0.12, "y": -0.08, "yaw": 17.0, "w": 0.8, "d": 0.6, "h": 0.5, "f": 1.04, "px": 6.0, "dz": 0.08},

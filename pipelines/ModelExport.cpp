@@ -169,17 +169,19 @@ void WriteTexturedGlb(const fs::path& file, const Scene& scene, const SceneGeome
     throw InputError(file.string(), "", "cannot write the glTF model");
 }
 
-std::vector<fs::path> WriteReprojections(const fs::path& dir, vk::Device& device, const Scene& scene,
-                                         const SceneGeometry& geometry, const std::vector<double>& psi,
-                                         const Image& atlas) {
+std::vector<Reprojection> WriteReprojections(const fs::path& dir, vk::Device& device, const Scene& scene,
+                                             const SceneGeometry& geometry, const std::vector<double>& psi,
+                                             const Image& atlas) {
   fs::create_directories(dir);
   const std::vector<Camera> cameras = scene.Cameras(psi);
   const std::vector<Image> synthetic = RenderWithAtlas(device, scene, psi, geometry, atlas, cameras);
-  std::vector<fs::path> written;
+  std::vector<Reprojection> written;
   for (size_t i = 0; i < cameras.size(); ++i) {
     const Image reference = LoadImage(cameras[i].image);
     const int w = reference.width, h = reference.height;
     Image strip(3 * w, h, 0.0f);
+    Reprojection out;
+    double squares = 0.0;
     for (int y = 0; y < h; ++y)
       for (int x = 0; x < w; ++x) {
         const float* r = reference.At(x, y);
@@ -188,12 +190,15 @@ std::vector<fs::path> WriteReprojections(const fs::path& dir, vk::Device& device
           strip.At(x, y)[c] = r[c];
           strip.At(w + x, y)[c] = s[c];
           strip.At(2 * w + x, y)[c] = s[3] > 0.0f ? std::min(1.0f, 4.0f * std::abs(r[c] - s[c])) : 0.0f;
+          if (s[3] > 0.0f) squares += double(r[c] - s[c]) * double(r[c] - s[c]);
         }
+        if (s[3] > 0.0f) ++out.pixels;
         strip.At(x, y)[3] = strip.At(w + x, y)[3] = strip.At(2 * w + x, y)[3] = 1.0f;
       }
-    const fs::path file = dir / (cameras[i].name + ".png");
-    WritePng(file, strip);
-    written.push_back(file);
+    out.file = dir / (cameras[i].name + ".png");
+    WritePng(out.file, strip);
+    out.rms_255 = out.pixels ? 255.0 * std::sqrt(squares / (3.0 * double(out.pixels))) : 0.0;
+    written.push_back(out);
   }
   return written;
 }

@@ -26,10 +26,18 @@ Image DilateAtlas(const Image& atlas, int iterations = 4);
 void WriteTexturedGlb(const std::filesystem::path& file, const Scene& scene, const SceneGeometry& geometry,
                       const std::vector<double>& psi, const Image& atlas);
 
+// One camera's reprojection: its file, and how far the model textured with the composite
+// is from the photograph where it covers it (RMS over pixels and channels, 0–255 scale).
+struct Reprojection {
+  std::filesystem::path file;
+  double rms_255 = 0.0;
+  int64_t pixels = 0;  // covered by the model
+};
+
 // Per camera, `DIR/<camera>.png`: reference | synthetic (the model textured with `atlas`) |
 // |difference| ×4, side by side.
-std::vector<std::filesystem::path> WriteReprojections(const std::filesystem::path& dir, vk::Device& device,
-                                                      const Scene& scene, const SceneGeometry& geometry,
-                                                      const std::vector<double>& psi, const Image& atlas);
+std::vector<Reprojection> WriteReprojections(const std::filesystem::path& dir, vk::Device& device,
+                                             const Scene& scene, const SceneGeometry& geometry,
+                                             const std::vector<double>& psi, const Image& atlas);
 
 }  // namespace vkr

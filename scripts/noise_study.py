@@ -631,7 +631,9 @@ def main(argv):
         "seed": args.seed, "scale": args.scale, "likelihood_sigma": args.likelihood_sigma,
         "sets": args.sets, "reuse": args.reuse}
 
-    runs, jobs = [], [(a, s) for a in assets for s in args.sigmas]
+    # Noise level outermost: an interrupted study (resumed with --reuse) has every asset
+    # at the first levels rather than some assets at every level.
+    runs, jobs = [], [(a, s) for s in args.sigmas for a in assets]
     for i, (asset, sigma) in enumerate(jobs, 1):
         head = f"[{i}/{len(jobs)}] {asset['name']} σ={fmt_sigma(sigma)}"
         record = run_one(vkrecon, asset, sigma, args, work, head, study["source"])

@@ -80,7 +80,10 @@ TEST_F(GpuTest, TexturedModelAndReprojectionsOfTheTruth) {
 
   const auto strips = WriteReprojections(dir / "reprojections", device(), scene, geometry, truth, composite);
   ASSERT_EQ(strips.size(), scene.cameras.size());
-  for (const fs::path& file : strips) {
+  for (const Reprojection& r : strips) {
+    const fs::path& file = r.file;
+    EXPECT_GT(r.pixels, 0);
+    EXPECT_LT(r.rms_255, 16.0) << file;  // noise-free images of the truth: edges and resampling
     const Image strip = LoadImage(file);
     ASSERT_EQ(strip.width, 3 * 160);
     double diff = 0.0;
