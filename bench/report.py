@@ -14,6 +14,7 @@ import os
 import sys
 
 SURFACE_PASSES = ["depth", "view_texture", "interior", "composite", "reduce"]
+COMPOSITE_ROWS = 8  # texels each composite.comp invocation sums before the workgroup tree (kRows)
 SWEEPS = [
     ("triangles", "Triangles (tessellated cylinder)", "triangles", "log₁₀ triangles"),
     ("backfacing", "Share of back-facing triangles (2 048-triangle grid)", "share", "share back-facing"),
@@ -126,13 +127,19 @@ def analysis(res, by_name, rows):
         out.append(f"  Across the camera sweep it takes {num(pass_ms(a, 'composite'))} ms with {a['cameras']} views and "
                    f"{num(pass_ms(b, 'composite'))} ms with {b['cameras']}, though it reads "
                    f"{(b['cameras'] * 8 + 4) / (a['cameras'] * 8 + 4):.0f}× more: its cost is per texel, not per byte. "
-                   "What is per texel in composite.comp: the fixed-order shared-memory tree reduction (three shared "
-                   "arrays, 9 `barrier()`s per 16×16 workgroup, which llvmpipe executes as coroutine switches over "
-                   "the workgroup's 32 SIMD slices) and per-lane `imageLoad`s of storage images.")
+                   "What is per texel in composite.comp: per-lane `imageLoad`s of storage images, the mean and "
+                   "deviation, and a share of the fixed-order shared-memory tree reduction (three shared arrays, 9 "
+                   "`barrier()`s per workgroup, which llvmpipe executes as coroutine switches over the workgroup's "
+                   f"32 SIMD slices). Each invocation first sums a column of {COMPOSITE_ROWS} texels, so one tree "
+                   f"serves 16×{16 * COMPOSITE_ROWS} texels.")
     red = ceilings.get("reduction_texels_per_s")
     if red:
-        out.append(f"  Timed alone (the reduction probe above), that reduction takes {house['atlas'] ** 2 / red * 1e3:.1f} ms "
-                   f"for a {house['atlas']}² atlas: {pct(house['atlas'] ** 2 / red * 1e3 / comp)} of the composite here.")
+        tree_ms = house['atlas'] ** 2 / red * 1e3 / COMPOSITE_ROWS
+        out.append(f"  Timed alone (the reduction probe above: one tree per 16×16 texels), the trees of a "
+                   f"{house['atlas']}² atlas would take {tree_ms * COMPOSITE_ROWS:.1f} ms; with one per "
+                   f"16×{16 * COMPOSITE_ROWS} they take about {tree_ms:.1f} ms, {pct(tree_ms / comp)} of the "
+                   "composite here (one tree per 16×16 texels made the house composite 22.6 ms and the house "
+                   "20.5 hypotheses/s in this session's first measurement).")
     ats = sweep_rows(rows, "atlas")
     if len(ats) >= 2:
         a, b = ats[0], ats[-1]
@@ -200,15 +207,14 @@ def analysis(res, by_name, rows):
     out.append("")
     bound = 1e3 / 30.0
     out.append(f"To reach 30 hypotheses/s a `house` hypothesis must take at most {bound:.1f} ms of wall clock; its "
-               f"GPU time is {num(gpu)} ms. The composite alone exceeds that budget here, and the view pass nearly "
-               "does. Neither is near a ceiling of the device, so the remedies are in the shaders (see below), not "
-               "in the hardware.")
+               f"GPU time is {num(gpu)} ms, {pct(view / gpu) if view else '?'} of it in the view pass and "
+               f"{pct(comp / gpu) if comp else '?'} in the composite. Neither is near a ceiling of the device, so "
+               "the remedies are in the shaders (see below), not in the hardware.")
     out.append("")
-    out.append("What would close the gap (not done here: the benchmark measures, the likelihood's code is unchanged):")
+    out.append("What would close the gap:")
     out.append("")
-    out.append("1. Composite: reduce with subgroup operations (`subgroupAdd`, subgroup size 8 here) or one "
-               "invocation per texel row accumulating in registers, instead of a 256-wide shared-memory tree with 9 "
-               "barriers; read the views from storage buffers with a compile-time view count (LAVAPIPE.md's fastest "
+    out.append("1. Composite: the tree now runs once per 2 048 texels (done); next, read the views from storage "
+               "buffers with a compile-time view count (LAVAPIPE.md's fastest "
                "variant); or fuse it into the view pass by additive blending of (w, w·c, w·‖c‖², w²) into one RGBA32F "
                "accumulator pair, so the composite reads 2 layers instead of one per camera. At the copy ceiling the "
                f"composite's bytes would take {house['atlas'] ** 2 * (cams * 8 + 4) / ceilings['copy_bytes_per_s'] * 1e3:.1f} ms.")
