@@ -24,6 +24,7 @@
 #include "pipelines/ViewRendering.h"
 #include "tests/common/GpuTest.h"
 #include "tests/common/TestFiles.h"
+#include "tests/pipelines/SynthesisedAsset.h"
 
 namespace vkr {
 namespace {
@@ -31,21 +32,7 @@ namespace {
 namespace fs = std::filesystem;
 
 const fs::path kFocal = fs::path(VKRECON_SOURCE_DIR) / "assets" / "focal";
-constexpr double kScale = 0.25;  // 640×480 → 160×120
-
-// Reference images of the focal asset at its truth (noise sd `noise` on the 0–255 scale,
-// seed 7, quarter size) into `dir`, with synth's cameras.json (K and pose folded at the truth).
-void Synthesise(vk::Device& device, double noise, const test::TempDir& dir) {
-  SynthOptions synth;
-  synth.scene_file = kFocal / "scene.json";
-  synth.at_file = kFocal / "truth.json";
-  synth.output_dir = dir.path();
-  synth.noise_sigma = noise;
-  synth.seed = 7;
-  synth.scale = kScale;
-  synth.atlas = 1024;
-  SynthesiseImages(synth, device);
-}
+constexpr double kScale = 0.25;  // 640×480 → 160×120, as SynthesiseAssetImages renders
 
 // The asset's camera file at quarter size: K' = diag(s, s, 1)·K as synth scales it, with
 // expressions wrapped ("560*f" → "0.25*(560*f)") so f, px and dz stay free. Poses are
@@ -76,7 +63,7 @@ class CameraParameterTest : public test::GpuTest {};
 
 TEST_F(CameraParameterTest, SynthesisedCameraFileCannotStandInForTheCalibration) {
   test::TempDir dir;
-  Synthesise(device(), 0.0, dir);
+  SynthesiseAssetImages(device(), "focal", 0.0, dir);
   // synth folds K and pose at --at: f, px and dz are then used nowhere, which the loader
   // refuses rather than estimating them against the true calibration.
   try {
@@ -109,7 +96,7 @@ class CameraParameterProfile : public test::GpuTest, public ::testing::WithParam
 TEST_P(CameraParameterProfile, PeaksAtTheTruthAndBeatsTheNominalCalibration) {
   const double noise = GetParam();
   test::TempDir dir;
-  Synthesise(device(), noise, dir);
+  SynthesiseAssetImages(device(), "focal", noise, dir);
   const Scene scene = NominalScene(dir);
   const std::vector<double> truth = scene.ValuesFromFile(kFocal / "truth.json");
 

@@ -4,8 +4,7 @@
 
 namespace vkr::test {
 
-Scene SynthesisedScene(vk::Device& device, const std::string& asset, double noise, const TempDir& dir,
-                       std::vector<double>* truth) {
+void SynthesiseAssetImages(vk::Device& device, const std::string& asset, double noise, const TempDir& dir) {
   const std::filesystem::path root = std::filesystem::path(VKRECON_SOURCE_DIR) / "assets" / asset;
   SynthOptions synth;
   synth.scene_file = root / "scene.json";
@@ -16,6 +15,12 @@ Scene SynthesisedScene(vk::Device& device, const std::string& asset, double nois
   synth.scale = 0.25;
   synth.atlas = 1024;
   SynthesiseImages(synth, device);
+}
+
+Scene SynthesisedScene(vk::Device& device, const std::string& asset, double noise, const TempDir& dir,
+                       std::vector<double>* truth) {
+  const std::filesystem::path root = std::filesystem::path(VKRECON_SOURCE_DIR) / "assets" / asset;
+  SynthesiseAssetImages(device, asset, noise, dir);
   Scene scene = LoadScene(root / "scene.json", {{"cameras", (dir / "cameras.json").string()},
                                                 {"images", dir.path().string()}});
   *truth = scene.ValuesFromFile(root / "truth.json");

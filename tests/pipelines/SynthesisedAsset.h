@@ -11,8 +11,13 @@
 
 namespace vkr::test {
 
-// Images (160×120-class, noise sd `noise` on the 0–255 scale, seed 7) go into `dir`;
-// `truth` receives the asset's truth.json.
+// Reference images of an asset at its truth, quarter size (160×120-class), noise sd `noise`
+// on the 0–255 scale, seed 7, into `dir`, with synth's cameras.json (K and pose folded at
+// the truth).
+void SynthesiseAssetImages(vk::Device& device, const std::string& asset, double noise, const TempDir& dir);
+
+// The same images, and the asset loaded as a scene reading them; `truth` receives the
+// asset's truth.json.
 Scene SynthesisedScene(vk::Device& device, const std::string& asset, double noise, const TempDir& dir,
                        std::vector<double>* truth);
 
