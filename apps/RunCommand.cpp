@@ -9,10 +9,13 @@ namespace vkr::app {
 int RunRun(int argc, char** argv) {
   CLI::App app(
       "Reconstruct: sample the scene's parameters against its photographs (Metropolis-Hastings "
-      "with annealing and replica exchange, coarse to fine, then gradient refinement) and write "
-      "OUT/map.json (MAP, posterior mean, sd, 95 % interval, ESS, R-hat), chain.csv, "
-      "composite.exr/.png, model.glb (textured; opens in Blender) and reprojections/. The state "
-      "is saved every few seconds: an interrupted run continues with --resume.",
+      "with annealing and replica exchange over the coarse levels, then settling at the mode, where "
+      "the noise model is calibrated (sigma \"auto\", texel correlation), then sampling, then gradient "
+      "refinement) and write OUT/map.json (MAP, posterior mean, sd, 95 % interval, ESS, R-hat, the "
+      "calibration), chain.csv, composite.exr/.png, model.glb (textured; opens in Blender) and "
+      "reprojections/. The state is saved every few seconds: an interrupted run continues with "
+      "--resume. Exit 1 when the fit does not explain the images; sampler options go in the "
+      "scene's \"sampler\" block or --set sampler.NAME=VALUE (optimiser/SamplerOptions.h).",
       "run");
   SceneArgs scene;
   ReconstructOptions options;
