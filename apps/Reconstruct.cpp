@@ -108,9 +108,10 @@ class ProgressBar {
     const double eta = done > 0.01 ? elapsed * (1 - done) / done : NAN;
     const int width = 24, filled = int(done * width);
     char line[256];
-    std::snprintf(line, sizeof line, "[%s%s] it %d/%d  level %d  T %.2f  best log post %.1f  acc %.2f  ETA %s",
+    std::snprintf(line, sizeof line, "[%s%s] it %d/%d  %-10s level %d  T %.2f  best log post %.1f  acc %.2f  ETA %s",
                   std::string(filled, '#').c_str(), std::string(width - filled, ' ').c_str(), p.iteration,
-                  p.iterations, p.level, p.temperature, p.best_log_posterior, p.acceptance, Duration(eta).c_str());
+                  p.iterations, opt::ToString(p.phase), p.level, p.temperature, p.best_log_posterior, p.acceptance,
+                  Duration(eta).c_str());
     std::cerr << (tty_ ? "\r" : "") << line << (tty_ ? "" : "\n") << std::flush;
   }
   void Finish() {

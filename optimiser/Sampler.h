@@ -15,7 +15,10 @@
 //     a constant batch size keeps GPU timings comparable and the frame count simple);
 //   - when the schedule moves to a finer level, one frame re-evaluates every replica's
 //     current state at the new level (it is not an iteration);
-//   - a refinement frame evaluates the candidate and its ± finite-difference neighbours.
+//   - a refinement frame (settling's or the final one) evaluates the candidate and its
+//     ± finite-difference neighbours;
+//   - the restart frame after settling makes several calls: the curvature's 1 + 2d²
+//     points (twice when the target recalibrates) and every replica's new start.
 // A hypothesis whose log-likelihood is NaN or ±∞ is rejected (a numerical outcome, not an
 // exception).
 //
