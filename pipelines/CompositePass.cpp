@@ -13,11 +13,7 @@ struct CompositePush {
   float inv_sigma2, cap;
 };
 
-constexpr uint32_t kTile = 16;  // composite.comp's local size
-constexpr uint32_t kRows = 8;   // composite.comp's texels per invocation (a column)
-
-uint32_t GroupsX(uint32_t level_size) { return (level_size + kTile - 1) / kTile; }
-uint32_t GroupsY(uint32_t level_size) { return (level_size + kTile * kRows - 1) / (kTile * kRows); }
+constexpr uint32_t kRows = 16;  // composite.comp's texels per invocation (a column)
 
 VkDescriptorSetLayoutBinding Binding(uint32_t b, VkDescriptorType type) {
   return {b, type, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr};
@@ -27,7 +23,9 @@ VkDescriptorSetLayoutBinding Binding(uint32_t b, VkDescriptorType type) {
 
 CompositePass::CompositePass(vk::Device& device, const vk::GpuImage& views, const vk::GpuImage& mask,
                              int max_batch)
-    : view_count_(views.info().layers), reduce_(device, max_batch, Groups(views.info().width)) {
+    : view_count_(views.info().layers),
+      lanes_(device.subgroup_size()),
+      reduce_(device, max_batch, GroupCount(views.info().width)) {
   const uint32_t size = views.info().width;
   const VkImageUsageFlags dump_usage = VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
   composite_ = vk::GpuImage(device, {size, size, 1, VK_FORMAT_R32G32B32A32_SFLOAT, dump_usage});
@@ -51,7 +49,7 @@ CompositePass::CompositePass(vk::Device& device, const vk::GpuImage& views, cons
 
 
   const vk::ShaderModule composite = vk::CreateShaderModule(device, kCompositeComp, sizeof(kCompositeComp));
-  composite_pipeline_ = CreateComputePipeline(device, composite, composite_layout_);
+  composite_pipeline_ = CreateSubgroupComputePipeline(device, composite, composite_layout_);
 
   // The dump images live in GENERAL for the whole run.
   vk::CommandContext context(device);
@@ -63,8 +61,14 @@ CompositePass::CompositePass(vk::Device& device, const vk::GpuImage& views, cons
   context.SubmitAndWait();
 }
 
-uint32_t CompositePass::Groups(uint32_t level_size) {
-  return GroupsX(level_size) * GroupsY(level_size);
+// A workgroup is one subgroup of `lanes` invocations side by side, each summing a column.
+VkExtent2D CompositePass::Groups(uint32_t level_size) const {
+  return {(level_size + lanes_ - 1) / lanes_, (level_size + kRows - 1) / kRows};
+}
+
+uint32_t CompositePass::GroupCount(uint32_t level_size) const {
+  const VkExtent2D g = Groups(level_size);
+  return g.width * g.height;
 }
 
 void CompositePass::record(VkCommandBuffer cmd, int slot, uint32_t level_size, double sigma_255,
@@ -76,11 +80,12 @@ void CompositePass::record(VkCommandBuffer cmd, int slot, uint32_t level_size, d
   vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, composite_layout_, 0, 1,
                           &composite_set_, 0, nullptr);
   vkCmdPushConstants(cmd, composite_layout_, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(push), &push);
-  vkCmdDispatch(cmd, GroupsX(level_size), GroupsY(level_size), 1);
+  const VkExtent2D groups = Groups(level_size);
+  vkCmdDispatch(cmd, groups.width, groups.height, 1);
 }
 
 void CompositePass::record_reduce(VkCommandBuffer cmd, int batch, uint32_t level_size) const {
-  reduce_.record(cmd, batch, Groups(level_size));
+  reduce_.record(cmd, batch, GroupCount(level_size));
 }
 
 ReducedScalars CompositePass::Result(int slot) const { return reduce_.Result(slot); }

@@ -31,9 +31,11 @@ class CompositePass {
   const vk::GpuImage& deviation() const { return deviation_; }
 
  private:
-  static uint32_t Groups(uint32_t level_size);
+  VkExtent2D Groups(uint32_t level_size) const;
+  uint32_t GroupCount(uint32_t level_size) const;
 
   uint32_t view_count_;
+  uint32_t lanes_;  // the device's subgroup size: one workgroup's width
   ReducePass reduce_;
   vk::GpuImage composite_, deviation_;
   vk::DescriptorSetLayout composite_set_layout_;

@@ -106,6 +106,30 @@ vk::Pipeline CreateComputePipeline(const vk::Device& device, VkShaderModule shad
   return vk::Pipeline(device.handle(), pipeline);
 }
 
+vk::Pipeline CreateSubgroupComputePipeline(const vk::Device& device, VkShaderModule shader,
+                                           VkPipelineLayout layout) {
+  const uint32_t size = device.subgroup_size();
+  const VkSpecializationMapEntry entry{0, 0, sizeof(uint32_t)};
+  const VkSpecializationInfo specialization{1, &entry, sizeof(size), &size};
+  // SPIR-V 1.6 lets the subgroup size vary unless it is required (Device.cpp checks that it
+  // can be, or that it cannot vary).
+  VkPipelineShaderStageRequiredSubgroupSizeCreateInfo required{
+      VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_REQUIRED_SUBGROUP_SIZE_CREATE_INFO};
+  required.requiredSubgroupSize = size;
+  VkComputePipelineCreateInfo ci{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
+  ci.stage.sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO;
+  ci.stage.pNext = &required;
+  ci.stage.flags = VK_PIPELINE_SHADER_STAGE_CREATE_REQUIRE_FULL_SUBGROUPS_BIT;
+  ci.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
+  ci.stage.module = shader;
+  ci.stage.pName = "main";
+  ci.stage.pSpecializationInfo = &specialization;
+  ci.layout = layout;
+  VkPipeline pipeline = VK_NULL_HANDLE;
+  VK_CHECK(vkCreateComputePipelines(device.handle(), VK_NULL_HANDLE, 1, &ci, nullptr, &pipeline));
+  return vk::Pipeline(device.handle(), pipeline);
+}
+
 vk::DescriptorSetLayout CreateDescriptorSetLayout(
     const vk::Device& device, const std::vector<VkDescriptorSetLayoutBinding>& bindings) {
   VkDescriptorSetLayoutCreateInfo ci{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};

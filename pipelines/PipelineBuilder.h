@@ -30,6 +30,12 @@ vk::Pipeline CreateGraphicsPipeline(const vk::Device& device, const GraphicsPipe
 vk::Pipeline CreateComputePipeline(const vk::Device& device, VkShaderModule shader,
                                    VkPipelineLayout layout);
 
+// A compute pipeline whose workgroup is exactly one full subgroup of the device's default
+// size: the shader declares local_size_x_id = 0 (set here to that size) and local size 1 in
+// y and z, and may sum across its workgroup with subgroup operations alone.
+vk::Pipeline CreateSubgroupComputePipeline(const vk::Device& device, VkShaderModule shader,
+                                           VkPipelineLayout layout);
+
 vk::DescriptorSetLayout CreateDescriptorSetLayout(
     const vk::Device& device, const std::vector<VkDescriptorSetLayoutBinding>& bindings);
 vk::PipelineLayout CreatePipelineLayout(const vk::Device& device, VkDescriptorSetLayout set_layout,

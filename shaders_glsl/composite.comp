@@ -2,10 +2,13 @@
 // Composite + deviation pass (thesis §6) fused with the first level of the reduction:
 // per texel the weighted mean over views and the weighted squared deviation from it
 // (pipelines/Evaluation.h gives the formulas), then one partial sum per workgroup.
+// A workgroup is one subgroup (local_size_x = its size, CompositePass.cpp); each invocation
+// sums a column of kRows texels, then the subgroup adds its lanes.
 #extension GL_GOOGLE_include_directive : require
-#include "reduction.glsl"
+#extension GL_KHR_shader_subgroup_arithmetic : require
+#include "subgroup_reduction.glsl"
 
-layout(local_size_x = 16, local_size_y = 16) in;
+layout(local_size_x_id = 0, local_size_y = 1) in;
 
 layout(set = 0, binding = 0, rgba16f) uniform readonly image2DArray views;
 layout(set = 0, binding = 1, r32ui) uniform readonly uimage2D mask;
@@ -22,11 +25,8 @@ layout(push_constant) uniform Push {
   float cap;            // per-dof cap of s_t / σ²
 } pc;
 
-// Each invocation accumulates a column of kRows texels before the workgroup's tree
-// reduction: on lavapipe the nine barriers of that tree cost more than the composite itself,
-// so one tree per 16×16·kRows tile instead of per 16×16 (CompositePass.cpp mirrors kRows).
-// The order of every sum is still fixed, so results stay bit-identical.
-const uint kRows = 8u;
+// Texels per invocation, a column (CompositePass.cpp mirrors it): fewer partials to reduce.
+const uint kRows = 16u;
 
 Scalars CompositeTexel(uvec2 texel) {
   Scalars mine = Scalars(0.0, 0.0, 0u, 0u, 0u, 0u, 0u, 0u);
@@ -74,24 +74,13 @@ Scalars CompositeTexel(uvec2 texel) {
 }
 
 void main() {
-  const uint tid = gl_LocalInvocationIndex;
   Scalars mine = Scalars(0.0, 0.0, 0u, 0u, 0u, 0u, 0u, 0u);
   const uint x = gl_GlobalInvocationID.x;
-  const uint y0 = gl_WorkGroupID.y * gl_WorkGroupSize.y * kRows + gl_LocalInvocationID.y;
-  for (uint r = 0u; r < kRows; ++r) {
-    const uint y = y0 + r * gl_WorkGroupSize.y;
-    if (x < pc.size && y < pc.size) {
-      const Scalars t = CompositeTexel(uvec2(x, y));
-      mine.sum_squares += t.sum_squares;
-      mine.dof += t.dof;
-      mine.seen_multi += t.seen_multi;
-      mine.seen_once += t.seen_once;
-      mine.seen_none += t.seen_none;
-      mine.interior += t.interior;
-    }
-  }
-  const Scalars total = ReduceWorkgroup(tid, mine);
-  if (tid == 0u) {
+  const uint y0 = gl_WorkGroupID.y * kRows;
+  for (uint r = 0u; r < kRows; ++r)
+    if (x < pc.size && y0 + r < pc.size) mine = AddScalars(mine, CompositeTexel(uvec2(x, y0 + r)));
+  const Scalars total = ReduceSubgroup(mine);
+  if (subgroupElect()) {
     const uint group = gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x;
     partials[pc.partial_offset + group] = total;
   }

@@ -1,15 +1,4 @@
-// The per-hypothesis scalars (pipelines/Evaluation.h ReducedScalars), as partial sums per
-// workgroup and as final results; mirrored by struct GpuScalars in pipelines/CompositePass.cpp.
-struct Scalars {
-  float sum_squares;
-  float dof;
-  uint seen_multi;
-  uint seen_once;
-  uint seen_none;
-  uint interior;
-  uint pad0;
-  uint pad1;
-};
+#include "scalars.glsl"
 
 // A fixed-order tree reduction over a 256-thread workgroup, so that the same inputs give
 // bit-identical sums on the same device (seeded chains must repeat exactly).

@@ -116,6 +116,17 @@ std::string Unusable(VkPhysicalDevice pd) {
   if (!f.v13.synchronization2) return "no synchronization2";
   if (!f.v13.maintenance4) return "no maintenance4";
   if (!f.v11.multiview) return "no multiview";
+  if (!f.v13.subgroupSizeControl || !f.v13.computeFullSubgroups) return "no subgroup size control";
+  VkPhysicalDeviceVulkan13Properties p13{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_3_PROPERTIES};
+  VkPhysicalDeviceVulkan11Properties p11{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_1_PROPERTIES, &p13};
+  VkPhysicalDeviceProperties2 p2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2, &p11};
+  vkGetPhysicalDeviceProperties2(pd, &p2);
+  // The composite pass sums within one subgroup of the default size (CompositePass.cpp).
+  if (!(p11.subgroupSupportedStages & VK_SHADER_STAGE_COMPUTE_BIT) ||
+      !(p11.subgroupSupportedOperations & VK_SUBGROUP_FEATURE_ARITHMETIC_BIT))
+    return "no subgroup arithmetic in compute shaders";
+  if (!(p13.requiredSubgroupSizeStages & VK_SHADER_STAGE_COMPUTE_BIT) && p13.minSubgroupSize != p13.maxSubgroupSize)
+    return "cannot fix the subgroup size of compute shaders";
   return {};
 }
 
@@ -211,6 +222,10 @@ Device::Device(const DeviceCreateInfo& info) {
     const auto devices = PhysicalDevices(instance_);
     physical_ = devices[ChooseDevice(devices, info.device_index)];
     vkGetPhysicalDeviceProperties(physical_, &properties_);
+    VkPhysicalDeviceVulkan11Properties p11{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_1_PROPERTIES};
+    VkPhysicalDeviceProperties2 p2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2, &p11};
+    vkGetPhysicalDeviceProperties2(physical_, &p2);
+    subgroup_size_ = p11.subgroupSize;
     vkGetPhysicalDeviceMemoryProperties(physical_, &memory_);
     queue_family_ = *UniversalQueueFamily(physical_);
 
@@ -226,6 +241,8 @@ Device::Device(const DeviceCreateInfo& info) {
     // SPIR-V 1.6 (Vulkan 1.3 target) needs maintenance4 or validation complains.
     enable.v13.maintenance4 = VK_TRUE;
     enable.v11.multiview = VK_TRUE;
+    enable.v13.subgroupSizeControl = VK_TRUE;
+    enable.v13.computeFullSubgroups = VK_TRUE;
     VkDeviceCreateInfo dci{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO};
     dci.pNext = &enable.core;
     dci.queueCreateInfoCount = 1;

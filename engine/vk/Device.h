@@ -57,6 +57,8 @@ class Device {
   const VkPhysicalDeviceProperties& properties() const { return properties_; }
   std::string name() const { return properties_.deviceName; }
   bool is_cpu() const { return properties_.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU; }
+  // The default subgroup size (lanes that run in lockstep: 8 on lavapipe, 32 on NVIDIA).
+  uint32_t subgroup_size() const { return subgroup_size_; }
   // Nanoseconds per timestamp tick.
   double timestamp_period_ns() const { return properties_.limits.timestampPeriod; }
 
@@ -83,6 +85,7 @@ class Device {
   VkDevice device_ = VK_NULL_HANDLE;
   VkQueue queue_ = VK_NULL_HANDLE;
   uint32_t queue_family_ = 0;
+  uint32_t subgroup_size_ = 1;
   VkPhysicalDeviceProperties properties_{};
   VkPhysicalDeviceMemoryProperties memory_{};
   uint64_t allocated_bytes_ = 0;

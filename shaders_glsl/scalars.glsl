@@ -1,0 +1,25 @@
+#ifndef SCALARS_GLSL
+#define SCALARS_GLSL
+// The per-hypothesis scalars (pipelines/Evaluation.h ReducedScalars), as partial sums per
+// workgroup and as final results; mirrored by struct GpuScalars in pipelines/CompositePass.cpp.
+struct Scalars {
+  float sum_squares;
+  float dof;
+  uint seen_multi;
+  uint seen_once;
+  uint seen_none;
+  uint interior;
+  uint pad0;
+  uint pad1;
+};
+
+Scalars AddScalars(Scalars a, Scalars b) {
+  a.sum_squares += b.sum_squares;
+  a.dof += b.dof;
+  a.seen_multi += b.seen_multi;
+  a.seen_once += b.seen_once;
+  a.seen_none += b.seen_none;
+  a.interior += b.interior;
+  return a;
+}
+#endif
