@@ -4,6 +4,7 @@
 // primitive). Interior texels are left out of the photo-consistency comparison.
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <vector>
 
 #include "engine/scene/Scene.h"
@@ -16,17 +17,24 @@ class InteriorPass {
  public:
   static constexpr VkFormat kFormat = VK_FORMAT_R32_UINT;
 
-  InteriorPass(vk::Device& device, const Scene& scene, const GpuScene& gpu_scene);
+  InteriorPass(vk::Device& device, const Scene& scene, const SceneGeometry& geometry,
+               const GpuScene& gpu_scene);
 
-  // Writes node_from_world of slot `slot` (host-visible; no submission).
+  // Writes node_from_world of slot `slot` and, per node, the primitives whose volume may
+  // hold part of its surface (host-visible; no submission).
   void SetNodeMatrices(int slot, const std::vector<Eigen::Matrix4d>& world_from_node);
 
   // Renders into `mask` (COLOR_ATTACHMENT_OPTIMAL) over [0, atlas_size)².
   void record(VkCommandBuffer cmd, int slot, const vk::GpuImage& mask, uint32_t atlas_size) const;
 
  private:
+  void WriteCandidates(int slot, const std::vector<Eigen::Matrix4d>& world_from_node,
+                       const std::vector<bool>& degenerate);
+
   const GpuScene* scene_;
-  vk::Buffer node_from_world_, kinds_;
+  std::vector<PrimitiveKind> kinds_host_;
+  std::vector<Eigen::AlignedBox3d> node_bounds_;  // each node's surface, node frame; empty: none
+  vk::Buffer node_from_world_, kinds_, candidates_;
   vk::DescriptorSetLayout set_layout_;
   vk::PipelineLayout layout_;
   vk::DescriptorPool pool_;

@@ -99,7 +99,7 @@ struct SurfaceLikelihood::Impl {
         context(d),
         gpu_scene(d, transfer, geometry, o.max_batch),
         depth_pass(d, gpu_scene),
-        interior_pass(d, s, gpu_scene) {}
+        interior_pass(d, s, geometry, gpu_scene) {}
 
   uint32_t LevelAtlas() const { return uint32_t(options.atlas >> level); }
 

@@ -3,17 +3,14 @@
 // (inside, or on the boundary of, another primitive: a box's underside on the ground, a
 // roof's base on its walls, faces of interpenetrating primitives). Texels outside every
 // chart stay 0. The ground plane is solid below it, so what stands on it seals its base.
-
-layout(std430, set = 0, binding = 1) readonly buffer NodeInverse { mat4 node_from_world[]; };
-layout(std430, set = 0, binding = 2) readonly buffer NodeKinds { uint kind[]; };
-
-layout(push_constant) uniform Push {
-  uint node_offset;
-  uint node_count;
-} pc;
+#extension GL_GOOGLE_include_directive : require
+#include "interior_io.glsl"
 
 layout(location = 0) in vec3 world;
 layout(location = 1) flat in uint node;
+layout(location = 2) flat in uvec4 candidate_kinds;
+layout(location = 3) flat in uint all_nodes;
+layout(location = 4) in vec3 local[kCandidates];
 layout(location = 0) out uint mask;
 
 const float kEps = 1e-3;  // in the other node's unit frame: "on the boundary" counts as inside
@@ -26,17 +23,16 @@ bool Inside(uint k, vec3 p) {
   if (k == kBox) return in_xy && in_z;
   if (k == kPrism) return abs(p.x) <= 0.5 + kEps && in_z && abs(p.y) <= 0.5 * (1.0 - p.z) + kEps;
   if (k == kCylinder) return dot(p.xy, p.xy) <= (0.5 + kEps) * (0.5 + kEps) && in_z;
-  return false;  // meshes and transform-only nodes contain nothing
+  return false;  // none, meshes and transform-only nodes contain nothing
 }
 
 void main() {
-  for (uint n = 0u; n < pc.node_count; ++n) {
-    if (n == node) continue;
-    const vec3 p = (node_from_world[pc.node_offset + n] * vec4(world, 1.0)).xyz;
-    if (Inside(kind[n], p)) {
-      mask = 2u;
-      return;
-    }
+  bool inside = false;
+  if (all_nodes != 0u) {
+    for (uint n = 0u; n < pc.node_count && !inside; ++n)
+      if (n != node) inside = Inside(kind[n], (node_from_world[pc.node_offset + n] * vec4(world, 1.0)).xyz);
+  } else {
+    for (uint i = 0u; i < kCandidates; ++i) inside = inside || Inside(candidate_kinds[i], local[i]);
   }
-  mask = 1u;
+  mask = inside ? 2u : 1u;
 }
