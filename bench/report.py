@@ -14,7 +14,7 @@ import os
 import sys
 
 SURFACE_PASSES = ["depth", "view_texture", "interior", "composite", "reduce"]
-COMPOSITE_ROWS = 8  # texels each composite.comp invocation sums before the workgroup tree (kRows)
+COMPOSITE_ROWS = 16  # texels each composite.comp invocation sums before the subgroup sum (kRows)
 SWEEPS = [
     ("triangles", "Triangles (tessellated cylinder)", "triangles", "log₁₀ triangles"),
     ("backfacing", "Share of back-facing triangles (2 048-triangle grid)", "share", "share back-facing"),
@@ -127,19 +127,18 @@ def analysis(res, by_name, rows):
         out.append(f"  Across the camera sweep it takes {num(pass_ms(a, 'composite'))} ms with {a['cameras']} views and "
                    f"{num(pass_ms(b, 'composite'))} ms with {b['cameras']}, though it reads "
                    f"{(b['cameras'] * 8 + 4) / (a['cameras'] * 8 + 4):.0f}× more: its cost is per texel, not per byte. "
-                   "What is per texel in composite.comp: per-lane `imageLoad`s of storage images, the mean and "
-                   "deviation, and a share of the fixed-order shared-memory tree reduction (three shared arrays, 9 "
-                   "`barrier()`s per workgroup, which llvmpipe executes as coroutine switches over the workgroup's "
-                   f"32 SIMD slices). Each invocation first sums a column of {COMPOSITE_ROWS} texels, so one tree "
-                   f"serves 16×{16 * COMPOSITE_ROWS} texels.")
+                   "What is per texel in composite.comp: per-lane `imageLoad`s of storage images (the mask and each "
+                   "view), the mean and the deviation. A workgroup is one subgroup; each invocation sums a column of "
+                   f"{COMPOSITE_ROWS} texels and the subgroup adds its lanes (`subgroupAdd`), with no shared memory and "
+                   "no `barrier()`: llvmpipe runs a shader with barriers as coroutines, and the earlier fixed-order "
+                   "shared-memory tree per 16×16 texels made the house composite 22.6 ms (16×128 texels: 9.1 ms; "
+                   "none: 6.1 ms, same machine, alternating).")
     red = ceilings.get("reduction_texels_per_s")
     if red:
-        tree_ms = house['atlas'] ** 2 / red * 1e3 / COMPOSITE_ROWS
-        out.append(f"  Timed alone (the reduction probe above: one tree per 16×16 texels), the trees of a "
-                   f"{house['atlas']}² atlas would take {tree_ms * COMPOSITE_ROWS:.1f} ms; with one per "
-                   f"16×{16 * COMPOSITE_ROWS} they take about {tree_ms:.1f} ms, {pct(tree_ms / comp)} of the "
-                   "composite here (one tree per 16×16 texels made the house composite 22.6 ms and the house "
-                   "20.5 hypotheses/s in this session's first measurement).")
+        red_ms = house['atlas'] ** 2 / red * 1e3
+        out.append(f"  Timed alone (the reduction probe above), the reduction of a {house['atlas']}² atlas takes "
+                   f"{red_ms:.2f} ms, {pct(red_ms / comp)} of the composite here: the rest is the image loads and "
+                   "the arithmetic.")
     ats = sweep_rows(rows, "atlas")
     if len(ats) >= 2:
         a, b = ats[0], ats[-1]
@@ -153,7 +152,12 @@ def analysis(res, by_name, rows):
                    f"{pct(house['share_of_ceiling'].get('view_texture'))} of the fill ceiling. The projection is already "
                    "per vertex (view_texture.vert); what is left per texel is the fragment shader's normalisation, "
                    "angle weight, slope-scaled depth test, the depth-map lookup and a trilinear `textureLod` at a "
-                   "computed LOD.")
+                   "computed LOD. Taking pieces out one at a time (likelihood --profile, house): the trilinear "
+                   "sample is about 45 % of the pass, the depth-map lookup 14 %, rasterising and writing the "
+                   "layer 18 %, the arithmetic the rest. Sampling a coarser mip is faster (LOD + 1: −8 %), so "
+                   "the LOD rule is also a cost: the implicit LOD of `texture()` (the footprint's longer side) "
+                   "was 17 % faster but blurs oblique views more than frontal ones, and the views then disagree "
+                   "at the truth (the CPU-reference tests fail); kept the per-texel area rule.")
     ts = sweep_rows(rows, "triangles")
     if len(ts) >= 2:
         a, b = ts[0], ts[-1]
@@ -206,23 +210,30 @@ def analysis(res, by_name, rows):
                    + " (CPU ms " + ", ".join(num(r.get("cpu_ms")) for r in [house] + lv) + ").")
     out.append("")
     bound = 1e3 / 30.0
-    out.append(f"To reach 30 hypotheses/s a `house` hypothesis must take at most {bound:.1f} ms of wall clock; its "
-               f"GPU time is {num(gpu)} ms, {pct(view / gpu) if view else '?'} of it in the view pass and "
+    met = house["hypotheses_per_s"] >= 30.0
+    out.append(f"For 30 hypotheses/s a `house` hypothesis may take at most {bound:.1f} ms of wall clock; it takes "
+               f"{num(house.get('wall_ms'))} ms here ({'met' if met else 'not met'}), of which the GPU time is "
+               f"{num(gpu)} ms, {pct(view / gpu) if view else '?'} of it in the view pass and "
                f"{pct(comp / gpu) if comp else '?'} in the composite. Neither is near a ceiling of the device, so "
-               "the remedies are in the shaders (see below), not in the hardware.")
+               "the remedies are in the shaders (see below), not in the hardware. The same binary reads up to "
+               "±25 % apart on this shared machine from one minute to the next (LAVAPIPE.md), so the margin "
+               "matters as much as the median.")
     out.append("")
-    out.append("What would close the gap:")
+    out.append("What was done and what would speed it further:")
     out.append("")
-    out.append("1. Composite: the tree now runs once per 2 048 texels (done); next, read the views from storage "
-               "buffers with a compile-time view count (LAVAPIPE.md's fastest "
-               "variant); or fuse it into the view pass by additive blending of (w, w·c, w·‖c‖², w²) into one RGBA32F "
-               "accumulator pair, so the composite reads 2 layers instead of one per camera. At the copy ceiling the "
-               f"composite's bytes would take {house['atlas'] ** 2 * (cams * 8 + 4) / ceilings['copy_bytes_per_s'] * 1e3:.1f} ms.")
-    out.append("2. View pass: reject texels so that llvmpipe can skip them. The layer is cleared to weight 0 before "
-               "the draw, so the early `return`s could be `discard`s, which end the shader for blocks whose "
-               "fragments are all rejected (to be measured: the back-facing sweep shows what a rejection costs "
-               "now); better, skip whole faces on the host: a face whose plane faces away from camera i, or whose "
-               "bounds lie outside its frustum, need not be drawn into view i at all (one draw per face range).")
+    out.append("1. Composite (done: subgroup sums, no barriers): next, read the views from storage buffers with a "
+               "compile-time view count (LAVAPIPE.md's fastest variant): loading the six views is about 3.4 ms of "
+               "the house composite. At the copy ceiling the composite's bytes would take "
+               f"{house['atlas'] ** 2 * (cams * 8 + 4) / ceilings['copy_bytes_per_s'] * 1e3:.1f} ms.")
+    out.append("2. View pass: skip whole faces on the host: a face whose plane faces away from camera i, or whose "
+               "bounds lie outside its frustum, need not be drawn into view i at all. Rejected texels are cheap "
+               "already (they return before the samples), so this saves rasterisation only: in `house` about a "
+               "quarter of the ground lies outside each frustum, but the ground is two triangles and would have "
+               "to be tessellated first. Tried and dropped: testing the interior mask first and rejecting "
+               "interior texels by early depth test (no gain: they fail the back-face or depth-map test before "
+               "any sampling), `discard` for `return`, nearest-mip sampling.")
+    out.append("3. Interior pass (done: the positions in the candidate primitives' frames are interpolated from "
+               "the vertices instead of a matrix per texel: 3.8 → 1.2 ms).")
     out.append(f"3. Composite over the charts only: it runs over all {house['atlas']}² = {house['atlas'] ** 2 / 1e3:.0f} k "
                f"atlas texels while {house['surface_texels'] / 1e3:.0f} k lie on the surface; dispatching over the "
                "charts' rectangles (or packing them tighter) saves the rest.")
@@ -320,9 +331,10 @@ def main():
         ["fill", f"{ceilings['fill_fragments_per_s'] / 1e6:.0f} Mfragments/s",
          f"constant colour into a {ceilings['fill_side']}² RGBA16F target, {ceilings['fill_draws']} full-target "
          "draws, each its own rendering behind a barrier (llvmpipe drops covered opaque draws)"],
-    ] + ([["probe: the composite's workgroup reduction alone",
+    ] + ([["probe: the composite's reduction alone",
            f"{ceilings['reduction_texels_per_s'] / 1e6:.1f} Mtexels/s",
-           f"`reduction.glsl`'s 16×16 shared-memory tree over {ceilings['fill_side']}² made-up texels, no image "
+           f"columns of {COMPOSITE_ROWS} texels per invocation, then a subgroup sum, over "
+           f"{ceilings['fill_side']}² made-up texels, no image "
            "reads (not a device ceiling: a piece of the composite pass, timed alone)"]]
          if ceilings.get("reduction_texels_per_s") else [])))
     w("")

@@ -130,9 +130,11 @@ double MeasureFill(vk::Device& device, uint32_t side, int draws, int repeats) {
 }
 
 double MeasureReduction(vk::Device& device, uint32_t side, int repeats) {
-  const uint32_t groups = (side + 15) / 16;
-  constexpr VkDeviceSize kScalarsBytes = 32;  // struct Scalars of reduction.glsl
-  vk::Buffer partials(device, VkDeviceSize(groups) * groups * kScalarsBytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+  constexpr uint32_t kRows = 16;  // bench_reduce.comp's texels per invocation
+  const uint32_t groups_x = (side + device.subgroup_size() - 1) / device.subgroup_size();
+  const uint32_t groups_y = (side + kRows - 1) / kRows;
+  constexpr VkDeviceSize kScalarsBytes = 32;  // struct Scalars of scalars.glsl
+  vk::Buffer partials(device, VkDeviceSize(groups_x) * groups_y * kScalarsBytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
                       vk::MemoryUse::Device);
   const std::vector<VkDescriptorSetLayoutBinding> bindings = {
       {0, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr}};
@@ -141,13 +143,13 @@ double MeasureReduction(vk::Device& device, uint32_t side, int repeats) {
   DescriptorSets sets = AllocateDescriptorSets(device, set_layout, bindings);
   WriteStorageBuffer(device, sets.sets[0], 0, partials);
   const vk::ShaderModule shader = vk::CreateShaderModule(device, kBenchReduceComp, sizeof(kBenchReduceComp));
-  const vk::Pipeline pipeline = CreateComputePipeline(device, shader, layout);
+  const vk::Pipeline pipeline = CreateSubgroupComputePipeline(device, shader, layout);
   const double seconds = TimeSubmissions(device, repeats, [&](VkCommandBuffer cmd) {
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline);
     vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, layout, 0, 1, &sets.sets[0], 0, nullptr);
-    vkCmdDispatch(cmd, groups, groups, 1);
+    vkCmdDispatch(cmd, groups_x, groups_y, 1);
   });
-  return seconds > 0 ? double(groups) * groups * 256.0 / seconds : 0.0;
+  return seconds > 0 ? double(side) * side / seconds : 0.0;
 }
 
 }  // namespace

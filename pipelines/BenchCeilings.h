@@ -30,8 +30,9 @@ struct Ceilings {
   double fill_fragments_per_s = 0.0;
   uint32_t fill_side = 0;
   int fill_draws = 0;
-  // Not a ceiling of the device but a probe of the composite pass: its 16×16 workgroup
-  // reduction (shaders_glsl/reduction.glsl) alone over fill_side² texels, texels per second.
+  // Not a ceiling of the device but a probe of the composite pass: its reduction (columns
+  // per invocation, then a subgroup sum; shaders_glsl/bench_reduce.comp) alone over
+  // fill_side² texels, texels per second.
   double reduction_texels_per_s = 0.0;
 };
 

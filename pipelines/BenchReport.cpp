@@ -168,7 +168,7 @@ std::string FormatBenchTable(const BenchReport& report) {
          Mib(c.copy_bytes) + " buffer)\n";
   out += "ceiling fill           " + Format("%.0f Mfragments/s", c.fill_fragments_per_s * 1e-6) + " (RGBA16F " +
          std::to_string(c.fill_side) + "², " + std::to_string(c.fill_draws) + " draws)\n";
-  out += "probe: composite's workgroup reduction alone " +
+  out += "probe: composite's reduction alone " +
          Format("%.1f Mtexels/s", c.reduction_texels_per_s * 1e-6) + "\n";
   out += "peak host RSS          " + Mib(report.peak_rss_bytes) + "\n";
   out += "peak device memory     " + Mib(report.peak_device_bytes) + " (at once: a sweep's likelihoods live together)\n";

@@ -13,7 +13,7 @@ struct CompositePush {
   float inv_sigma2, cap;
 };
 
-constexpr uint32_t kRows = 16;  // composite.comp's texels per invocation (a column)
+constexpr uint32_t kCompositeRows = 16;  // composite.comp's texels per invocation (a column)
 
 VkDescriptorSetLayoutBinding Binding(uint32_t b, VkDescriptorType type) {
   return {b, type, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr};
@@ -63,7 +63,7 @@ CompositePass::CompositePass(vk::Device& device, const vk::GpuImage& views, cons
 
 // A workgroup is one subgroup of `lanes` invocations side by side, each summing a column.
 VkExtent2D CompositePass::Groups(uint32_t level_size) const {
-  return {(level_size + lanes_ - 1) / lanes_, (level_size + kRows - 1) / kRows};
+  return {(level_size + lanes_ - 1) / lanes_, (level_size + kCompositeRows - 1) / kCompositeRows};
 }
 
 uint32_t CompositePass::GroupCount(uint32_t level_size) const {

@@ -15,7 +15,7 @@ struct ImageComparePush {
   float sigma2;
 };
 
-constexpr uint32_t kCompareTile = 16;  // image_compare.comp's local size
+constexpr uint32_t kCompareRows = 16;  // image_compare.comp's pixels per invocation (a column)
 
 VkDescriptorSetLayoutBinding CompareBinding(uint32_t b, VkDescriptorType type) {
   return {b, type, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr};
@@ -25,7 +25,7 @@ VkDescriptorSetLayoutBinding CompareBinding(uint32_t b, VkDescriptorType type) {
 
 ImageComparePass::ImageComparePass(vk::Device& device, const vk::GpuImage& results,
                                    const std::vector<std::vector<VkExtent2D>>& pair_sizes, int max_batch)
-    : pair_count_(results.info().layers) {
+    : pair_count_(results.info().layers), lanes_(device.subgroup_size()) {
   if (pair_sizes.empty()) throw std::invalid_argument("ImageComparePass: no levels");
   std::vector<uint32_t> sizes;
   for (const std::vector<VkExtent2D>& level : pair_sizes) {
@@ -60,12 +60,13 @@ ImageComparePass::ImageComparePass(vk::Device& device, const vk::GpuImage& resul
 
 
   const vk::ShaderModule compare = vk::CreateShaderModule(device, kImageCompareComp, sizeof(kImageCompareComp));
-  compare_pipeline_ = CreateComputePipeline(device, compare, compare_layout_);
+  compare_pipeline_ = CreateSubgroupComputePipeline(device, compare, compare_layout_);
 }
 
 VkExtent2D ImageComparePass::Groups(int level) const {
   const VkExtent2D e = level_extent_.at(size_t(level));
-  return {(e.width + kCompareTile - 1) / kCompareTile, (e.height + kCompareTile - 1) / kCompareTile};
+  // A workgroup is one subgroup of `lanes_` invocations side by side, each summing a column.
+  return {(e.width + lanes_ - 1) / lanes_, (e.height + kCompareRows - 1) / kCompareRows};
 }
 
 void ImageComparePass::record(VkCommandBuffer cmd, int slot, int level, double sigma_255) const {

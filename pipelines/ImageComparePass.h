@@ -34,6 +34,7 @@ class ImageComparePass {
   VkExtent2D Groups(int level) const;
 
   uint32_t pair_count_;
+  uint32_t lanes_;  // the device's subgroup size: one workgroup's width
   std::vector<VkExtent2D> level_extent_;  // the largest pair region per level
   std::unique_ptr<ReducePass> reduce_;    // sized once the level extents are known
   vk::Buffer sizes_;

@@ -25,7 +25,8 @@ layout(push_constant) uniform Push {
   float cap;            // per-dof cap of s_t / σ²
 } pc;
 
-// Texels per invocation, a column (CompositePass.cpp mirrors it): fewer partials to reduce.
+// Texels per invocation, a column (CompositePass.cpp mirrors it as kCompositeRows): fewer
+// partials to reduce.
 const uint kRows = 16u;
 
 Scalars CompositeTexel(uvec2 texel) {

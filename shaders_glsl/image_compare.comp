@@ -1,15 +1,18 @@
 #version 460
 // Image-space likelihood (thesis §4.4), first level of the reduction: per pixel the sum over
 // camera pairs of the warp pass's results (one layer per ordered pair (s, t)), then one
-// partial sum per workgroup. reduce.comp sums the partials per hypothesis.
+// partial sum per workgroup. reduce.comp sums the partials per hypothesis. A workgroup is
+// one subgroup (as composite.comp): each invocation sums a column of kRows pixels, then
+// the subgroup adds its lanes.
 //   sum_squares = σ² Σ χ²  over compared pixel pairs       dof = 3 per compared pair
 //   seen_multi  = compared pixel pairs (t and s see the surface point)
 //   seen_once   = pixel pairs where only t sees the surface point
 // (seen_none and interior stay 0: the image-space likelihood sees only what t sees.)
 #extension GL_GOOGLE_include_directive : require
-#include "reduction.glsl"
+#extension GL_KHR_shader_subgroup_arithmetic : require
+#include "subgroup_reduction.glsl"
 
-layout(local_size_x = 16, local_size_y = 16) in;
+layout(local_size_x_id = 0, local_size_y = 1) in;
 
 layout(set = 0, binding = 0, r32f) uniform readonly image2DArray results;
 layout(std430, set = 0, binding = 1) readonly buffer PairSizes { uvec2 sizes[]; };
@@ -22,8 +25,10 @@ layout(push_constant) uniform Push {
   float sigma2;         // σ² on the [0,1] colour scale
 } pc;
 
-void main() {
-  const uvec2 pixel = gl_GlobalInvocationID.xy;
+// Pixels per invocation, a column (ImageComparePass.cpp mirrors it as kCompareRows).
+const uint kRows = 16u;
+
+Scalars ComparePixel(uvec2 pixel) {
   float chi2 = 0.0;
   uint compared = 0u, once = 0u;
   for (uint p = 0u; p < pc.pair_count; ++p) {
@@ -37,9 +42,15 @@ void main() {
       ++once;
     }
   }
-  Scalars mine = Scalars(chi2 * pc.sigma2, 3.0 * float(compared), compared, once, 0u, 0u, 0u, 0u);
-  const Scalars total = ReduceWorkgroup(gl_LocalInvocationIndex, mine);
-  if (gl_LocalInvocationIndex == 0u) {
+  return Scalars(chi2 * pc.sigma2, 3.0 * float(compared), compared, once, 0u, 0u, 0u, 0u);
+}
+
+void main() {
+  Scalars mine = Scalars(0.0, 0.0, 0u, 0u, 0u, 0u, 0u, 0u);
+  const uint x = gl_GlobalInvocationID.x;
+  for (uint r = 0u; r < kRows; ++r) mine = AddScalars(mine, ComparePixel(uvec2(x, gl_WorkGroupID.y * kRows + r)));
+  const Scalars total = ReduceSubgroup(mine);
+  if (subgroupElect()) {
     const uint group = gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x;
     partials[pc.partial_offset + group] = total;
   }
