@@ -112,13 +112,13 @@ vk::Pipeline CreateSubgroupComputePipeline(const vk::Device& device, VkShaderMod
   const VkSpecializationMapEntry entry{0, 0, sizeof(uint32_t)};
   const VkSpecializationInfo specialization{1, &entry, sizeof(size), &size};
   // SPIR-V 1.6 lets the subgroup size vary unless it is required (Device.cpp checks that it
-  // can be, or that it cannot vary).
+  // can be, or that the device has only one size).
   VkPipelineShaderStageRequiredSubgroupSizeCreateInfo required{
       VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_REQUIRED_SUBGROUP_SIZE_CREATE_INFO};
   required.requiredSubgroupSize = size;
   VkComputePipelineCreateInfo ci{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
   ci.stage.sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO;
-  ci.stage.pNext = &required;
+  if (device.compute_subgroup_size_can_be_required()) ci.stage.pNext = &required;
   ci.stage.flags = VK_PIPELINE_SHADER_STAGE_CREATE_REQUIRE_FULL_SUBGROUPS_BIT;
   ci.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
   ci.stage.module = shader;

@@ -222,10 +222,12 @@ Device::Device(const DeviceCreateInfo& info) {
     const auto devices = PhysicalDevices(instance_);
     physical_ = devices[ChooseDevice(devices, info.device_index)];
     vkGetPhysicalDeviceProperties(physical_, &properties_);
-    VkPhysicalDeviceVulkan11Properties p11{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_1_PROPERTIES};
+    VkPhysicalDeviceVulkan13Properties p13{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_3_PROPERTIES};
+    VkPhysicalDeviceVulkan11Properties p11{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_1_PROPERTIES, &p13};
     VkPhysicalDeviceProperties2 p2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2, &p11};
     vkGetPhysicalDeviceProperties2(physical_, &p2);
     subgroup_size_ = p11.subgroupSize;
+    compute_subgroup_size_can_be_required_ = (p13.requiredSubgroupSizeStages & VK_SHADER_STAGE_COMPUTE_BIT) != 0;
     vkGetPhysicalDeviceMemoryProperties(physical_, &memory_);
     queue_family_ = *UniversalQueueFamily(physical_);
 

@@ -59,6 +59,8 @@ class Device {
   bool is_cpu() const { return properties_.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU; }
   // The default subgroup size (lanes that run in lockstep: 8 on lavapipe, 32 on NVIDIA).
   uint32_t subgroup_size() const { return subgroup_size_; }
+  // Whether a compute pipeline may require that size (else the device has only one size).
+  bool compute_subgroup_size_can_be_required() const { return compute_subgroup_size_can_be_required_; }
   // Nanoseconds per timestamp tick.
   double timestamp_period_ns() const { return properties_.limits.timestampPeriod; }
 
@@ -86,6 +88,7 @@ class Device {
   VkQueue queue_ = VK_NULL_HANDLE;
   uint32_t queue_family_ = 0;
   uint32_t subgroup_size_ = 1;
+  bool compute_subgroup_size_can_be_required_ = false;
   VkPhysicalDeviceProperties properties_{};
   VkPhysicalDeviceMemoryProperties memory_{};
   uint64_t allocated_bytes_ = 0;
