@@ -9,7 +9,7 @@ namespace vkr {
 namespace {
 
 struct CompositePush {
-  uint32_t size, view_count, partial_offset, write_images;
+  uint32_t size, partial_offset, write_images;
   float inv_sigma2, cap;
 };
 
@@ -49,7 +49,7 @@ CompositePass::CompositePass(vk::Device& device, const vk::GpuImage& views, cons
 
 
   const vk::ShaderModule composite = vk::CreateShaderModule(device, kCompositeComp, sizeof(kCompositeComp));
-  composite_pipeline_ = CreateSubgroupComputePipeline(device, composite, composite_layout_);
+  composite_pipeline_ = CreateSubgroupComputePipeline(device, composite, composite_layout_, {view_count_});
 
   // The dump images live in GENERAL for the whole run.
   vk::CommandContext context(device);
@@ -74,7 +74,7 @@ uint32_t CompositePass::GroupCount(uint32_t level_size) const {
 void CompositePass::record(VkCommandBuffer cmd, int slot, uint32_t level_size, double sigma_255,
                            double cap, bool write_images) const {
   const double sigma = sigma_255 / 255.0;
-  const CompositePush push{level_size, view_count_, uint32_t(slot) * reduce_.partial_stride(),
+  const CompositePush push{level_size, uint32_t(slot) * reduce_.partial_stride(),
                            write_images ? 1u : 0u, float(1.0 / (sigma * sigma)), float(cap)};
   vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, composite_pipeline_);
   vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, composite_layout_, 0, 1,

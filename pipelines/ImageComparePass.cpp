@@ -11,7 +11,7 @@ namespace vkr {
 namespace {
 
 struct ImageComparePush {
-  uint32_t pair_count, size_offset, partial_offset;
+  uint32_t size_offset, partial_offset;
   float sigma2;
 };
 
@@ -60,7 +60,7 @@ ImageComparePass::ImageComparePass(vk::Device& device, const vk::GpuImage& resul
 
 
   const vk::ShaderModule compare = vk::CreateShaderModule(device, kImageCompareComp, sizeof(kImageCompareComp));
-  compare_pipeline_ = CreateSubgroupComputePipeline(device, compare, compare_layout_);
+  compare_pipeline_ = CreateSubgroupComputePipeline(device, compare, compare_layout_, {pair_count_});
 }
 
 VkExtent2D ImageComparePass::Groups(int level) const {
@@ -71,7 +71,7 @@ VkExtent2D ImageComparePass::Groups(int level) const {
 
 void ImageComparePass::record(VkCommandBuffer cmd, int slot, int level, double sigma_255) const {
   const double sigma = sigma_255 / 255.0;
-  const ImageComparePush push{pair_count_, uint32_t(level) * pair_count_, uint32_t(slot) * reduce_->partial_stride(),
+  const ImageComparePush push{uint32_t(level) * pair_count_, uint32_t(slot) * reduce_->partial_stride(),
                          float(sigma * sigma)};
   vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, compare_pipeline_);
   vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, compare_layout_, 0, 1, &compare_set_, 0, nullptr);

@@ -107,10 +107,14 @@ vk::Pipeline CreateComputePipeline(const vk::Device& device, VkShaderModule shad
 }
 
 vk::Pipeline CreateSubgroupComputePipeline(const vk::Device& device, VkShaderModule shader,
-                                           VkPipelineLayout layout) {
-  const uint32_t size = device.subgroup_size();
-  const VkSpecializationMapEntry entry{0, 0, sizeof(uint32_t)};
-  const VkSpecializationInfo specialization{1, &entry, sizeof(size), &size};
+                                           VkPipelineLayout layout, const std::vector<uint32_t>& constants) {
+  std::vector<uint32_t> values = {device.subgroup_size()};
+  values.insert(values.end(), constants.begin(), constants.end());
+  std::vector<VkSpecializationMapEntry> entries;
+  for (uint32_t id = 0; id < values.size(); ++id) entries.push_back({id, id * 4, sizeof(uint32_t)});
+  const VkSpecializationInfo specialization{uint32_t(entries.size()), entries.data(), values.size() * sizeof(uint32_t),
+                                            values.data()};
+  const uint32_t size = values[0];
   // SPIR-V 1.6 lets the subgroup size vary unless it is required (Device.cpp checks that it
   // can be, or that the device has only one size).
   VkPipelineShaderStageRequiredSubgroupSizeCreateInfo required{

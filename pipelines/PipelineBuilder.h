@@ -32,9 +32,10 @@ vk::Pipeline CreateComputePipeline(const vk::Device& device, VkShaderModule shad
 
 // A compute pipeline whose workgroup is exactly one full subgroup of the device's default
 // size: the shader declares local_size_x_id = 0 (set here to that size) and local size 1 in
-// y and z, and may sum across its workgroup with subgroup operations alone.
+// y and z, and may sum across its workgroup with subgroup operations alone. `constants`
+// become the uint specialisation constants 1, 2, … (e.g. a loop count the driver can unroll).
 vk::Pipeline CreateSubgroupComputePipeline(const vk::Device& device, VkShaderModule shader,
-                                           VkPipelineLayout layout);
+                                           VkPipelineLayout layout, const std::vector<uint32_t>& constants = {});
 
 vk::DescriptorSetLayout CreateDescriptorSetLayout(
     const vk::Device& device, const std::vector<VkDescriptorSetLayoutBinding>& bindings);

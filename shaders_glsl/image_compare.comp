@@ -13,13 +13,15 @@
 #include "subgroup_reduction.glsl"
 
 layout(local_size_x_id = 0, local_size_y = 1) in;
+// The number of camera pairs, fixed when the pipeline is made (ImageComparePass.cpp): a
+// loop the driver can unroll, as in composite.comp.
+layout(constant_id = 1) const uint kPairs = 1u;
 
 layout(set = 0, binding = 0, r32f) uniform readonly image2DArray results;
 layout(std430, set = 0, binding = 1) readonly buffer PairSizes { uvec2 sizes[]; };
 layout(std430, set = 0, binding = 2) writeonly buffer Partials { Scalars partials[]; };
 
 layout(push_constant) uniform Push {
-  uint pair_count;
   uint size_offset;     // first of this level's sizes[] (one per pair: t's image at the level)
   uint partial_offset;  // first partial of this hypothesis
   float sigma2;         // σ² on the [0,1] colour scale
@@ -31,7 +33,7 @@ const uint kRows = 16u;
 Scalars ComparePixel(uvec2 pixel) {
   float chi2 = 0.0;
   uint compared = 0u, once = 0u;
-  for (uint p = 0u; p < pc.pair_count; ++p) {
+  for (uint p = 0u; p < kPairs; ++p) {
     const uvec2 size = sizes[pc.size_offset + p];
     if (pixel.x >= size.x || pixel.y >= size.y) continue;
     const float v = imageLoad(results, ivec3(pixel, p)).r;
