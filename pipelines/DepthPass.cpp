@@ -39,7 +39,7 @@ void DepthPass::record(VkCommandBuffer cmd, const Eigen::Matrix4d& clip_from_wor
   const Eigen::Matrix4f clip = clip_from_world.cast<float>();
   std::memcpy(push.clip_from_world, clip.data(), sizeof(push.clip_from_world));
   push.node_offset = scene_->node_offset(slot);
-  BeginRendering(cmd, depth.info().width, depth.info().height, VK_NULL_HANDLE, {}, depth.view());
+  BeginRendering(cmd, depth.info().width, depth.info().height, VK_NULL_HANDLE, std::nullopt, depth.view());
   vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline_);
   vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_, 0, 1, &set_, 0, nullptr);
   vkCmdPushConstants(cmd, layout_, VK_SHADER_STAGE_VERTEX_BIT, 0, sizeof(DepthPush), &push);

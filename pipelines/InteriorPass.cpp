@@ -133,7 +133,9 @@ void InteriorPass::WriteCandidates(int slot, const std::vector<Eigen::Matrix4d>&
 void InteriorPass::record(VkCommandBuffer cmd, int slot, const vk::GpuImage& mask,
                           uint32_t atlas_size) const {
   const InteriorPush push{scene_->node_offset(slot), uint32_t(scene_->node_count())};
-  BeginRendering(cmd, atlas_size, atlas_size, mask.view(), {{0.0f, 0.0f, 0.0f, 0.0f}}, VK_NULL_HANDLE);
+  // Cleared: texels outside every chart must read 0 (no surface) in the composite.
+  BeginRendering(cmd, atlas_size, atlas_size, mask.view(), VkClearColorValue{{0.0f, 0.0f, 0.0f, 0.0f}},
+                 VK_NULL_HANDLE);
   vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline_);
   vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_, 0, 1, &set_, 0, nullptr);
   vkCmdPushConstants(cmd, layout_, VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0,

@@ -228,13 +228,13 @@ void SetViewport(VkCommandBuffer cmd, uint32_t width, uint32_t height) {
 namespace vkr {
 
 void BeginRendering(VkCommandBuffer cmd, uint32_t width, uint32_t height, VkImageView colour,
-                    VkClearColorValue clear, VkImageView depth) {
+                    std::optional<VkClearColorValue> clear, VkImageView depth) {
   VkRenderingAttachmentInfo colour_info{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
   colour_info.imageView = colour;
   colour_info.imageLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
-  colour_info.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
+  colour_info.loadOp = clear ? VK_ATTACHMENT_LOAD_OP_CLEAR : VK_ATTACHMENT_LOAD_OP_DONT_CARE;
   colour_info.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
-  colour_info.clearValue.color = clear;
+  if (clear) colour_info.clearValue.color = *clear;
   VkRenderingAttachmentInfo depth_info{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
   depth_info.imageView = depth;
   depth_info.imageLayout = VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL;

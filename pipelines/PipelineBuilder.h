@@ -4,6 +4,7 @@
 
 #include <vulkan/vulkan.h>
 
+#include <optional>
 #include <vector>
 
 #include "engine/vk/Resources.h"
@@ -61,9 +62,10 @@ void WriteStorageImage(const vk::Device& device, VkDescriptorSet set, uint32_t b
 void SetViewport(VkCommandBuffer cmd, uint32_t width, uint32_t height);
 
 // Begins dynamic rendering over [0,width)×[0,height) into an optional colour view (cleared
-// to `clear`) and an optional depth view (cleared to 0, the far end of reversed depth), and
-// sets viewport and scissor to the same rectangle.
+// to `clear`, or left as it was, undefined, without one) and an optional depth view
+// (cleared to 0, the far end of reversed depth), and sets viewport and scissor to the same
+// rectangle.
 void BeginRendering(VkCommandBuffer cmd, uint32_t width, uint32_t height, VkImageView colour,
-                    VkClearColorValue clear, VkImageView depth);
+                    std::optional<VkClearColorValue> clear, VkImageView depth);
 
 }  // namespace vkr

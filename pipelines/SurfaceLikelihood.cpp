@@ -89,6 +89,7 @@ struct SurfaceLikelihood::Impl {
   std::unique_ptr<vk::TimestampQueries> timestamps;
   int level = 0;
   int last_batch = 0;
+  bool views_defined = false;  // the view layers have been cleared once
 
   Impl(vk::Device& d, const Scene& s, const SurfaceLikelihoodOptions& o)
       : device(&d),
@@ -121,7 +122,10 @@ struct SurfaceLikelihood::Impl {
     vk::MemoryBarrier(cmd, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, 0, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, 0);
   }
 
-  void RecordHypothesis(VkCommandBuffer cmd, int slot, const std::vector<Camera>& cams, bool dump) const {
+  // `clear_views`: zero the view layers first (dumps, and the first evaluation, so that texels
+  // outside the charts never hold uninitialised memory).
+  void RecordHypothesis(VkCommandBuffer cmd, int slot, const std::vector<Camera>& cams, bool dump,
+                        bool clear_views) const {
     const uint32_t ts = uint32_t(slot) * kTimestampsPerHypothesis;
     Timestamp(cmd, ts);
     std::vector<ViewCamera> views_at_level;
@@ -147,7 +151,8 @@ struct SurfaceLikelihood::Impl {
                        VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT, VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT);
     const int levels = options.levels;
     for (size_t i = 0; i < cams.size(); ++i)
-      view_pass->record(cmd, views_at_level[i], int(i) * levels + level, slot, view_layers[i], LevelAtlas());
+      view_pass->record(cmd, views_at_level[i], int(i) * levels + level, slot, view_layers[i], LevelAtlas(),
+                        clear_views);
     Timestamp(cmd, ts + 2);
     interior_pass.record(cmd, slot, mask, LevelAtlas());
     Timestamp(cmd, ts + 3);
@@ -178,10 +183,11 @@ struct SurfaceLikelihood::Impl {
     }
     VkCommandBuffer cmd = context.Begin();
     if (timestamps) timestamps->Reset(cmd);
-    for (size_t k = 0; k < batch.size(); ++k) RecordHypothesis(cmd, int(k), cams[k], dump);
+    for (size_t k = 0; k < batch.size(); ++k) RecordHypothesis(cmd, int(k), cams[k], dump, dump || !views_defined);
     composite_pass->record_reduce(cmd, int(batch.size()), LevelAtlas());
     if (timestamps) timestamps->Write(cmd, uint32_t(batch.size()) * kTimestampsPerHypothesis);
     context.SubmitAndWait();
+    views_defined = true;
     last_batch = int(batch.size());
     std::vector<Evaluation> out;
     for (size_t k = 0; k < batch.size(); ++k) out.push_back(Score(composite_pass->Result(int(k)), options.model));

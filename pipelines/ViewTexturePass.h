@@ -37,9 +37,10 @@ class ViewTexturePass {
   void BindImages(int index, VkImageView reference, VkImageView depth);
 
   // Renders into `target` (one layer of the view-texture array, COLOR_ATTACHMENT_OPTIMAL)
-  // over [0, atlas_size)², clearing it first.
+  // over [0, atlas_size)². Texels outside every chart keep whatever they held (undefined)
+  // unless `clear` (for dumps) zeroes the layer first.
   void record(VkCommandBuffer cmd, const ViewCamera& camera, int binding, int slot,
-              VkImageView target, uint32_t atlas_size) const;
+              VkImageView target, uint32_t atlas_size, bool clear) const;
 
  private:
   vk::Device* device_;
