@@ -37,9 +37,12 @@ struct BenchOptions {
   // programs falls on all of them alike. In a turn a row evaluates its batch of K again and
   // again for at least `turn_seconds` (at least once). Each row gets at least `min_turns`
   // turns and `min_seconds` of timed work, and no turn starts past `max_row_seconds` of timed
-  // work or after `max_turns`. Figures are medians over the turns.
+  // work or after `max_turns`. Figures are medians over the turns. Five turns, not three:
+  // with three, one burst of load on this shared machine could take two of a row's turns
+  // and move its median by 15 % (a batch sweep read K=16/K=1 = 0.85 so, and 1.03–1.16 in
+  // the repeats minutes later).
   double turn_seconds = 0.5;
-  int min_turns = 3;
+  int min_turns = 5;
   double min_seconds = 1.0;
   int max_turns = 30;
   double max_row_seconds = 20.0;
