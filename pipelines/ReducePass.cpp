@@ -7,7 +7,7 @@
 namespace vkr {
 namespace {
 
-// Mirrors `Scalars` in shaders_glsl/reduction.glsl (std430).
+// Mirrors `Scalars` in shaders_glsl/scalars.glsl (std430).
 struct GpuScalars {
   float sum_squares, dof;
   uint32_t seen_multi, seen_once, seen_none, interior, pad0, pad1;

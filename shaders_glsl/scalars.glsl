@@ -1,7 +1,7 @@
 #ifndef SCALARS_GLSL
 #define SCALARS_GLSL
 // The per-hypothesis scalars (pipelines/Evaluation.h ReducedScalars), as partial sums per
-// workgroup and as final results; mirrored by struct GpuScalars in pipelines/CompositePass.cpp.
+// workgroup and as final results; mirrored by struct GpuScalars in pipelines/ReducePass.cpp.
 struct Scalars {
   float sum_squares;
   float dof;
