@@ -122,8 +122,9 @@ struct SurfaceLikelihood::Impl {
     vk::MemoryBarrier(cmd, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, 0, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, 0);
   }
 
-  // `clear_views`: zero the view layers first (dumps, and the first evaluation, so that texels
-  // outside the charts never hold uninitialised memory).
+  // `clear_views`: zero the view layers first. Dumps need it (their layers read zero off the
+  // charts); the first evaluation does it once, as a precaution. Otherwise nothing off the
+  // charts is ever read, and every chart texel is written (ViewTexturePass.cpp).
   void RecordHypothesis(VkCommandBuffer cmd, int slot, const std::vector<Camera>& cams, bool dump,
                         bool clear_views) const {
     const uint32_t ts = uint32_t(slot) * kTimestampsPerHypothesis;
