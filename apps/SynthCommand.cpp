@@ -7,8 +7,11 @@ namespace vkr::app {
 
 int RunSynth(int argc, char** argv) {
   CLI::App app(
-      "Render reference images of a textured scene at parameter values P (each node's "
-      "albedo texture, no lighting), one PNG per camera, plus the cameras.json they match.",
+      "Render reference images of a textured scene at parameter values P, one PNG per camera, plus "
+      "the cameras.json they match. By default each node shows its albedo texture as it is; the "
+      "scene's \"synth\" block or the options below make them look like photographs: a sun with "
+      "cast shadows, an exposure that differs from camera to camera (written to exposure.json), "
+      "anti-aliasing.",
       "synth");
   SceneArgs scene;
   SynthOptions options;
@@ -22,6 +25,21 @@ int RunSynth(int argc, char** argv) {
   app.add_option("--scale", options.scale,
                  "image size factor; K scales with it (default 1, tests use 0.25)");
   app.add_option("--atlas", options.atlas, "side of the albedo atlas in texels (default 2048)");
+  std::vector<double> sun;
+  app.add_option("--sun", sun,
+                 "light with a sun at AZIMUTH,ELEVATION degrees (azimuth from +x towards +y) and its "
+                 "cast shadows, plus ambient sky light")
+      ->expected(2)->delimiter(',');
+  bool unlit = false;
+  app.add_flag("--unlit", unlit, "no sun even if the scene's synth block has one: the albedo as it is");
+  double ambient = -1.0;
+  app.add_option("--ambient", ambient, "share of the light from the sky, on every face (default 0.3)");
+  double exposure = -1.0;
+  app.add_option("--exposure", exposure,
+                 "spread s of each camera's exposure: gain 1±s, white balance ±s/5, offset ±43s (0-255), "
+                 "gamma e^±0.64s (0.35 is what auto-exposure does; default 0, identical cameras)");
+  int supersample = 0;
+  app.add_option("--supersample", supersample, "samples per pixel along each axis, 1-8 (anti-aliasing; default 1)");
   bool quiet = false;
   app.add_flag("-q,--quiet", quiet, "print nothing but errors");
   if (auto status = Parse(app, argc, argv)) return *status;
@@ -30,6 +48,15 @@ int RunSynth(int argc, char** argv) {
   options.overrides = ParseOverrides(scene.sets);
   options.at_file = at;
   options.output_dir = out;
+  if (!sun.empty()) {
+    options.sun = true;
+    options.sun_azimuth = sun[0];
+    options.sun_elevation = sun[1];
+  }
+  if (unlit) options.sun = false;
+  if (ambient >= 0.0) options.ambient = ambient;
+  if (exposure >= 0.0) options.exposure = exposure;
+  if (supersample > 0) options.supersample = supersample;
   auto device = OpenDevice(scene.device);
   const SynthSummary summary = SynthesiseImages(options, *device);
   if (!quiet)

@@ -10,10 +10,18 @@
 namespace vkr {
 namespace {
 
+// Mirrors shaders_glsl/novel_view_push.glsl.
 struct NovelViewPush {
   float clip_from_world[16];
   uint32_t node_offset;
   uint32_t mode;
+};
+
+// Mirrors the Lighting block of shaders_glsl/novel_view.frag (std140).
+struct LightingBlock {
+  float shadow_from_world[16];
+  float to_sun[4];  // xyz, strength
+  float params[4];  // ambient, depth bias, texel
 };
 
 constexpr VkFormat kColourFormat = VK_FORMAT_R32G32B32A32_SFLOAT;
@@ -27,10 +35,18 @@ ViewTarget::ViewTarget(vk::Device& device, uint32_t width, uint32_t height)
       depth(device, {width, height, 1, kDepthFormat, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT}) {}
 
 NovelViewPass::NovelViewPass(vk::Device& device, const GpuScene& scene, const vk::GpuImage& atlas)
-    : device_(&device), scene_(&scene), sampler_(vk::CreateLinearClampSampler(device)) {
+    : device_(&device),
+      scene_(&scene),
+      sampler_(vk::CreateLinearClampSampler(device)),
+      nearest_(vk::CreateNearestClampSampler(device)),
+      lighting_(device, sizeof(LightingBlock), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, vk::MemoryUse::Upload),
+      no_shadow_(device, {1, 1, 1, kDepthFormat,
+                          VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT}) {
   const std::vector<VkDescriptorSetLayoutBinding> bindings = {
       {0, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_VERTEX_BIT, nullptr},
       {1, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr},
+      {2, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr},
+      {3, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr},
   };
   set_layout_ = CreateDescriptorSetLayout(device, bindings);
   layout_ = CreatePipelineLayout(device, set_layout_, sizeof(NovelViewPush),
@@ -40,6 +56,17 @@ NovelViewPass::NovelViewPass(vk::Device& device, const GpuScene& scene, const vk
   set_ = sets.sets[0];
   WriteStorageBuffer(device, set_, 0, scene.node_matrices());
   WriteSampledImage(device, set_, 1, atlas.view(), sampler_, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
+  std::memset(lighting_.mapped(), 0, sizeof(LightingBlock));
+  WriteUniformBuffer(device, set_, 3, lighting_);
+  {  // Until a sun is set, binding 2 holds a valid (never read) shadow map.
+    vk::CommandContext context(device);
+    VkCommandBuffer cmd = context.Begin();
+    vk::ImageBarrier(cmd, no_shadow_, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_DEPTH_READ_ONLY_OPTIMAL,
+                     VK_PIPELINE_STAGE_2_NONE, 0, VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT,
+                     VK_ACCESS_2_SHADER_SAMPLED_READ_BIT);
+    context.SubmitAndWait();
+  }
+  WriteSampledImage(device, set_, 2, no_shadow_.view(), nearest_, VK_IMAGE_LAYOUT_DEPTH_READ_ONLY_OPTIMAL);
 
   const vk::ShaderModule vert = vk::CreateShaderModule(device, kNovelViewVert, sizeof(kNovelViewVert));
   const vk::ShaderModule frag = vk::CreateShaderModule(device, kNovelViewFrag, sizeof(kNovelViewFrag));
@@ -49,8 +76,22 @@ NovelViewPass::NovelViewPass(vk::Device& device, const GpuScene& scene, const vk
   desc.layout = layout_;
   desc.colour_formats = {kColourFormat};
   desc.depth_format = kDepthFormat;
-  desc.vertex_attributes = 0b01101;  // position, atlas_uv, node
+  desc.vertex_attributes = 0b01111;  // position, normal, atlas_uv, node
   pipeline_ = CreateGraphicsPipeline(device, desc);
+}
+
+void NovelViewPass::SetSunLighting(const SunLighting& lighting, const vk::GpuImage& shadow_map) {
+  LightingBlock block{};
+  const Eigen::Matrix4f m = lighting.shadow_from_world.cast<float>();
+  std::memcpy(block.shadow_from_world, m.data(), sizeof(block.shadow_from_world));
+  const Eigen::Vector3d to_sun = lighting.to_sun.normalized();
+  for (int k = 0; k < 3; ++k) block.to_sun[k] = float(to_sun[k]);
+  block.to_sun[3] = float(lighting.strength);
+  block.params[0] = float(lighting.ambient);
+  block.params[1] = float(lighting.depth_bias);
+  block.params[2] = float(lighting.texel);
+  std::memcpy(lighting_.mapped(), &block, sizeof(block));
+  WriteSampledImage(*device_, set_, 2, shadow_map.view(), nearest_, VK_IMAGE_LAYOUT_DEPTH_READ_ONLY_OPTIMAL);
 }
 
 void NovelViewPass::record(VkCommandBuffer cmd, const Camera& camera, int slot, Output output,

@@ -180,16 +180,30 @@ DescriptorSets AllocateDescriptorSets(const vk::Device& device, VkDescriptorSetL
   return out;
 }
 
-void WriteStorageBuffer(const vk::Device& device, VkDescriptorSet set, uint32_t binding,
-                        const vk::Buffer& buffer) {
+namespace {
+
+void WriteBuffer(const vk::Device& device, VkDescriptorSet set, uint32_t binding, VkDescriptorType type,
+                 const vk::Buffer& buffer) {
   VkDescriptorBufferInfo info{buffer.handle(), 0, VK_WHOLE_SIZE};
   VkWriteDescriptorSet w{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
   w.dstSet = set;
   w.dstBinding = binding;
   w.descriptorCount = 1;
-  w.descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+  w.descriptorType = type;
   w.pBufferInfo = &info;
   vkUpdateDescriptorSets(device.handle(), 1, &w, 0, nullptr);
+}
+
+}  // namespace
+
+void WriteStorageBuffer(const vk::Device& device, VkDescriptorSet set, uint32_t binding,
+                        const vk::Buffer& buffer) {
+  WriteBuffer(device, set, binding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, buffer);
+}
+
+void WriteUniformBuffer(const vk::Device& device, VkDescriptorSet set, uint32_t binding,
+                        const vk::Buffer& buffer) {
+  WriteBuffer(device, set, binding, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, buffer);
 }
 
 namespace {

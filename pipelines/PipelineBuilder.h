@@ -53,6 +53,8 @@ DescriptorSets AllocateDescriptorSets(const vk::Device& device, VkDescriptorSetL
                                       uint32_t sets = 1);
 void WriteStorageBuffer(const vk::Device& device, VkDescriptorSet set, uint32_t binding,
                         const vk::Buffer& buffer);
+void WriteUniformBuffer(const vk::Device& device, VkDescriptorSet set, uint32_t binding,
+                        const vk::Buffer& buffer);
 void WriteSampledImage(const vk::Device& device, VkDescriptorSet set, uint32_t binding,
                        VkImageView view, VkSampler sampler, VkImageLayout layout);
 

@@ -3,15 +3,20 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <fstream>
+#include <memory>
+#include <nlohmann/json.hpp>
 #include <random>
 
 #include "engine/common/InputError.h"
+#include "engine/image/Exposure.h"
 #include "engine/image/Image.h"
 #include "engine/scene/CameraWriter.h"
 #include "engine/vk/Commands.h"
 #include "pipelines/Environment.h"
 #include "pipelines/GpuScene.h"
 #include "pipelines/NovelViewPass.h"
+#include "pipelines/SunLight.h"
 
 namespace fs = std::filesystem;
 
@@ -65,6 +70,65 @@ Camera ScaleCamera(const Camera& camera, double scale) {
   return out;
 }
 
+namespace {
+
+// The effective photograph settings: the scene's `synth` block under the options' overrides.
+SynthSettings EffectiveSynth(const Scene& scene, const SynthOptions& o) {
+  SynthSettings s = scene.synth;
+  if (o.sun) s.sun = *o.sun;
+  if (o.sun_azimuth) s.sun_azimuth = *o.sun_azimuth;
+  if (o.sun_elevation) s.sun_elevation = *o.sun_elevation;
+  if (o.ambient) s.ambient = *o.ambient;
+  if (o.exposure) s.exposure = *o.exposure;
+  if (o.supersample) s.supersample = *o.supersample;
+  return s;
+}
+
+// Where no surface was drawn, the distant environment shows through (Environment.h).
+void FillEnvironment(const Camera& camera, Image& image) {
+  const Eigen::Matrix3d ray_from_pixel = camera.R().transpose() * camera.K.inverse();
+  for (size_t i = 0; i < image.rgba.size(); i += 4) {
+    if (image.rgba[i + 3] != 0.0f) continue;
+    const size_t pixel = i / 4;
+    const Eigen::Vector3d uv1(double(pixel % image.width) + 0.5, double(pixel / image.width) + 0.5, 1.0);
+    const Eigen::Vector3f env = EnvironmentColour(ray_from_pixel * uv1);
+    for (int c = 0; c < 3; ++c) image.rgba[i + c] = env[c];
+  }
+}
+
+// The mean of each n×n block, in linear light: a sensor pixel integrates light.
+Image DownsampleLinear(const Image& image, int n) {
+  if (n == 1) return image;
+  Image out(image.width / n, image.height / n);
+  for (int y = 0; y < out.height; ++y)
+    for (int x = 0; x < out.width; ++x) {
+      double sum[3] = {0, 0, 0};
+      for (int dy = 0; dy < n; ++dy)
+        for (int dx = 0; dx < n; ++dx) {
+          const float* p = image.At(x * n + dx, y * n + dy);
+          for (int c = 0; c < 3; ++c) sum[c] += SrgbToLinear(p[c]);
+        }
+      float* q = out.At(x, y);
+      for (int c = 0; c < 3; ++c) q[c] = LinearToSrgb(float(sum[c] / (n * n)));
+      q[3] = 1.0f;
+    }
+  return out;
+}
+
+nlohmann::json ExposureJson(const std::vector<Camera>& cameras, const std::vector<Exposure>& exposures) {
+  nlohmann::json list = nlohmann::json::array();
+  for (size_t i = 0; i < cameras.size(); ++i) {
+    const Exposure& e = exposures[i];
+    list.push_back({{"camera", cameras[i].name},
+                    {"gain", {e.gain[0], e.gain[1], e.gain[2]}},
+                    {"offset_255", e.offset * 255.0},
+                    {"gamma", e.gamma}});
+  }
+  return {{"exposures", list}};
+}
+
+}  // namespace
+
 SynthSummary SynthesiseImages(const SynthOptions& options, vk::Device& device) {
   if (!(options.scale > 0.0 && options.scale <= 16.0))
     throw InputError("", "--scale", "must be in (0, 16]");
@@ -73,30 +137,47 @@ SynthSummary SynthesiseImages(const SynthOptions& options, vk::Device& device) {
   load.require_images = false;  // synth is what makes them
   const Scene scene = LoadScene(options.scene_file, options.overrides, load);
   const std::vector<double> psi = scene.ValuesFromFile(options.at_file);
+  const SynthSettings settings = EffectiveSynth(scene, options);
+  SunLight sun{settings.sun_azimuth, settings.sun_elevation, settings.ambient};
+  if (std::string why; settings.sun && !sun.IsValid(&why)) throw InputError("", "--sun", why);
+  if (!(settings.exposure >= 0.0 && settings.exposure < 1.0)) throw InputError("", "--exposure", "must be in [0, 1)");
+  if (settings.supersample < 1 || settings.supersample > 8) throw InputError("", "--supersample", "must be in [1, 8]");
 
   const SceneGeometry geometry = BuildSceneGeometry(scene, scene.InitialValues(), options.atlas);
   const Image atlas = BakeAlbedoAtlas(geometry.atlas, geometry.meshes, LoadAlbedos(scene));
   SceneDrawer drawer(device, geometry, atlas);
   drawer.gpu_scene.SetNodeMatrices(0, scene.WorldFromNode(psi));
+  std::unique_ptr<SunShadow> shadow;
+  if (settings.sun) {
+    shadow = std::make_unique<SunShadow>(device, drawer.gpu_scene);
+    const SunLighting lighting = shadow->Render(drawer.context, sun, WorldBounds(scene, psi, geometry).everything);
+    drawer.pass.SetSunLighting(lighting, shadow->map());
+  }
+  const NovelViewPass::Output output = settings.sun ? NovelViewPass::Output::LitColour : NovelViewPass::Output::Colour;
 
   fs::create_directories(options.output_dir);
   std::mt19937_64 rng(options.seed);
+  // Exposures draw from their own stream, so the noise of a seed is the same with and without.
+  std::mt19937_64 exposure_rng(options.seed ^ 0x9e3779b97f4a7c15ull);
   std::normal_distribution<double> noise(0.0, options.noise_sigma / 255.0);
   SynthSummary summary;
   std::vector<Camera> written;
+  std::vector<Exposure> exposures;
   for (const Camera& scene_camera : scene.Cameras(psi)) {
     Camera camera = ScaleCamera(scene_camera, options.scale);
-    Image image = drawer.pass.Render(drawer.transfer, drawer.context, camera);
-    const Eigen::Matrix3d ray_from_pixel = camera.R().transpose() * camera.K.inverse();
+    const int n = settings.supersample;
+    Camera fine = camera;  // n×n samples per pixel of `camera`
+    fine.width *= n;
+    fine.height *= n;
+    fine.K.row(0) *= n;
+    fine.K.row(1) *= n;
+    Image image = drawer.pass.Render(drawer.transfer, drawer.context, fine, 0, output);
+    FillEnvironment(fine, image);
+    image = DownsampleLinear(image, n);
+    const Exposure exposure = settings.exposure > 0.0 ? RandomExposure(settings.exposure, exposure_rng) : Exposure{};
     for (size_t i = 0; i < image.rgba.size(); i += 4) {
-      if (image.rgba[i + 3] == 0.0f) {  // no surface: the distant environment shows through
-        const size_t pixel = i / 4;
-        const Eigen::Vector3d uv1(double(pixel % image.width) + 0.5, double(pixel / image.width) + 0.5, 1.0);
-        const Eigen::Vector3f env = EnvironmentColour(ray_from_pixel * uv1);
-        for (int c = 0; c < 3; ++c) image.rgba[i + c] = env[c];
-      }
       for (int c = 0; c < 3; ++c) {
-        double v = image.rgba[i + c];
+        double v = exposure.Apply(image.rgba[i + c], c);
         if (options.noise_sigma > 0.0) v += noise(rng);
         image.rgba[i + c] = float(std::clamp(v, 0.0, 1.0));
       }
@@ -106,26 +187,36 @@ SynthSummary SynthesiseImages(const SynthOptions& options, vk::Device& device) {
     WritePng(camera.image, image);
     summary.images.push_back(camera.image);
     written.push_back(camera);
+    exposures.push_back(exposure);
   }
   summary.cameras_file = options.output_dir / "cameras.json";
   WriteCamerasJson(summary.cameras_file, written);
+  if (settings.exposure > 0.0) {
+    summary.exposure_file = options.output_dir / "exposure.json";
+    std::ofstream out(summary.exposure_file);
+    out << ExposureJson(written, exposures).dump(2) << "\n";
+  }
   return summary;
+}
+
+SceneBounds WorldBounds(const Scene& scene, const std::vector<double>& psi, const SceneGeometry& geometry) {
+  const std::vector<Eigen::Matrix4d> world_from_node = scene.WorldFromNode(psi);
+  SceneBounds b;
+  for (size_t node = 0; node < geometry.meshes.size(); ++node)
+    for (const Eigen::Vector3f& p : geometry.meshes[node].positions) {
+      const Eigen::Vector3d w = (world_from_node[node] * p.cast<double>().homogeneous()).head<3>();
+      b.everything.extend(w);
+      if (scene.nodes[node].primitive != PrimitiveKind::Plane) b.objects.extend(w);
+    }
+  return b;
 }
 
 std::vector<Camera> OrbitCameras(const Scene& scene, const std::vector<double>& psi,
                                  const SceneGeometry& geometry, int n) {
   const std::vector<Camera> cameras = scene.Cameras(psi);
   if (cameras.empty()) throw InputError(scene.file.string(), "cameras", "--orbit needs at least one camera for its intrinsics");
-  const std::vector<Eigen::Matrix4d> world_from_node = scene.WorldFromNode(psi);
-  // Bounding box of the objects; the ground plane would pull the centre to its middle.
-  Eigen::AlignedBox3d box, everything;
-  for (size_t node = 0; node < geometry.meshes.size(); ++node)
-    for (const Eigen::Vector3f& p : geometry.meshes[node].positions) {
-      const Eigen::Vector3d w = (world_from_node[node] * p.cast<double>().homogeneous()).head<3>();
-      everything.extend(w);
-      if (scene.nodes[node].primitive != PrimitiveKind::Plane) box.extend(w);
-    }
-  if (box.isEmpty()) box = everything;
+  const SceneBounds bounds = WorldBounds(scene, psi, geometry);
+  const Eigen::AlignedBox3d box = bounds.objects.isEmpty() ? bounds.everything : bounds.objects;
   const Eigen::Vector3d centre = box.isEmpty() ? Eigen::Vector3d(Eigen::Vector3d::Zero()) : Eigen::Vector3d(box.center());
   double radius = 0.0, height = 0.0;
   for (const Camera& c : cameras) {

@@ -2,6 +2,7 @@
 // `vkrecon synth` and `vkrecon render` as typed functions the command line and the tests
 // both call: a scene at parameters Ψ, drawn with the novel-view pass.
 
+#include <Eigen/Geometry>
 #include <cstdint>
 #include <filesystem>
 #include <optional>
@@ -23,11 +24,17 @@ struct SynthOptions {
   uint64_t seed = 1;                 // noise seed
   double scale = 1.0;                // image size factor (K scales with it); tests use small images
   int atlas = 2048;                  // albedo atlas side: sharper than a run's, it is the "truth"
+  // Photograph-like rendering; each unset field comes from the scene's `synth` block.
+  std::optional<bool> sun;                   // light with a sun (and cast shadows), or not
+  std::optional<double> sun_azimuth, sun_elevation, ambient;
+  std::optional<double> exposure;            // spread of the cameras' exposures (Exposure.h)
+  std::optional<int> supersample;            // samples per pixel along each axis
 };
 
 struct SynthSummary {
   std::vector<std::filesystem::path> images;
   std::filesystem::path cameras_file;
+  std::filesystem::path exposure_file;  // exposure.json, when the exposures differ
 };
 
 SynthSummary SynthesiseImages(const SynthOptions& options, vk::Device& device);
@@ -60,6 +67,13 @@ std::vector<Camera> OrbitCameras(const Scene& scene, const std::vector<double>& 
 std::vector<Image> RenderWithAtlas(vk::Device& device, const Scene& scene, const std::vector<double>& psi,
                                    const SceneGeometry& geometry, const Image& atlas,
                                    const std::vector<Camera>& cameras);
+
+// The world bounding box of the scene's surface at Ψ, and of its objects (every node but
+// planes; empty when there are none): the ground would pull an orbit's centre to its middle.
+struct SceneBounds {
+  Eigen::AlignedBox3d everything, objects;
+};
+SceneBounds WorldBounds(const Scene& scene, const std::vector<double>& psi, const SceneGeometry& geometry);
 
 // A camera scaled to another image size: K' = diag(sx, sy, 1)·K under the [0,W] convention.
 Camera ScaleCamera(const Camera& camera, double scale);

@@ -125,6 +125,18 @@ struct SamplerSettings {
   std::string options_json = "{}";
 };
 
+// How `vkrecon synth` renders the scene unless its command line says otherwise: reference
+// images that look like photographs (a sun with cast shadows, exposure that differs between
+// cameras, anti-aliasing). The defaults draw the albedo as it is, as earlier versions did.
+struct SynthSettings {
+  bool sun = false;              // light the scene with a sun and ambient sky light
+  double sun_azimuth = 135.0;    // degrees, from +x towards +y
+  double sun_elevation = 50.0;   // degrees above the horizon
+  double ambient = 0.3;          // share of the light that comes from the sky, on every face
+  double exposure = 0.0;         // spread of each camera's exposure (gain ±spread, see Exposure.h)
+  int supersample = 1;           // samples per pixel along each axis (anti-aliasing)
+};
+
 class Scene {
  public:
   Scene();  // empty: no parameters, nodes or cameras; LoadScene fills one in
@@ -139,6 +151,7 @@ class Scene {
   std::vector<CameraModel> cameras;
   LikelihoodSettings likelihood;
   SamplerSettings sampler;
+  SynthSettings synth;
 
   int ParameterIndex(const std::string& name) const;  // -1 if absent
   std::vector<double> InitialValues() const;

@@ -110,6 +110,28 @@ void ReadSampler(const Reader& r, const Json& j, SamplerSettings& s) {
     s.seed = std::uint64_t(r.Integer(*it, "sampler.seed", 0, LLONG_MAX));
 }
 
+void ReadSynth(const Reader& r, const Json& j, SynthSettings& s) {
+  r.CheckObject(j, "synth", {"sun", "ambient", "exposure", "supersample"});
+  if (auto it = j.find("sun"); it != j.end()) {
+    if (!it->is_array() || it->size() != 2) r.Fail("synth.sun", "expected [azimuth, elevation] in degrees");
+    s.sun = true;
+    s.sun_azimuth = r.Number((*it)[0], "synth.sun[0]");
+    s.sun_elevation = r.Number((*it)[1], "synth.sun[1]");
+    if (!(s.sun_elevation > 0 && s.sun_elevation <= 90))
+      r.Fail("synth.sun[1]", "elevation " + Num(s.sun_elevation) + " must be in (0, 90] degrees");
+  }
+  if (auto it = j.find("ambient"); it != j.end()) {
+    s.ambient = r.Number(*it, "synth.ambient");
+    if (!(s.ambient >= 0 && s.ambient <= 1)) r.Fail("synth.ambient", "ambient " + Num(s.ambient) + " must be in [0, 1]");
+  }
+  if (auto it = j.find("exposure"); it != j.end()) {
+    s.exposure = r.Number(*it, "synth.exposure");
+    if (!(s.exposure >= 0 && s.exposure < 1)) r.Fail("synth.exposure", "exposure spread " + Num(s.exposure) + " must be in [0, 1)");
+  }
+  if (auto it = j.find("supersample"); it != j.end())
+    s.supersample = int(r.Integer(*it, "synth.supersample", 1, 8));
+}
+
 PrimitiveKind ReadPrimitive(const Reader& r, const Json& j, const std::string& path, Node& node) {
   if (j.is_object()) {
     r.CheckObject(j, path, {"mesh"});
@@ -222,7 +244,7 @@ Scene LoadScene(const std::filesystem::path& file, const std::vector<SceneOverri
   r.dir = scene.file.parent_path();
   r.overridden = &overridden;
   r.CheckObject(root, "", {"version", "images", "cameras", "parameters", "nodes",
-                           "likelihood", "sampler"});
+                           "likelihood", "sampler", "synth"});
 
   const long long version = r.Integer(r.Require(root, "", "version"), "version", 0, LLONG_MAX);
   if (version != 1)
@@ -247,6 +269,7 @@ Scene LoadScene(const std::filesystem::path& file, const std::vector<SceneOverri
   if (auto it = root.find("likelihood"); it != root.end())
     ReadLikelihood(r, *it, scene.likelihood);
   if (auto it = root.find("sampler"); it != root.end()) ReadSampler(r, *it, scene.sampler);
+  if (auto it = root.find("synth"); it != root.end()) ReadSynth(r, *it, scene.synth);
   if (auto it = root.find("nodes"); it != root.end()) ReadNodes(r, *it, scene.nodes);
   if (auto it = root.find("cameras"); it != root.end())
     ReadCameras(*it, r, options.require_images, scene);

@@ -260,6 +260,17 @@ TEST(BadInput, VersionAndSettings) {
   scene["likelihood"] = Json{{"kind", "volume"}};
   EXPECT_TRUE(LoadFails(dir, scene, {"likelihood.kind", "unknown kind 'volume'"}));
   scene.erase("likelihood");
+  scene["synth"] = Json{{"sun", {0, 95}}};
+  EXPECT_TRUE(LoadFails(dir, scene, {"synth.sun[1]", "must be in (0, 90]"}));
+  scene["synth"] = Json{{"sun", {0}}};
+  EXPECT_TRUE(LoadFails(dir, scene, {"synth.sun", "[azimuth, elevation]"}));
+  scene["synth"] = Json{{"exposure", 1.5}};
+  EXPECT_TRUE(LoadFails(dir, scene, {"synth.exposure", "[0, 1)"}));
+  scene["synth"] = Json{{"supersample", 0}};
+  EXPECT_TRUE(LoadFails(dir, scene, {"synth.supersample"}));
+  scene["synth"] = Json{{"sunn", 1}};
+  EXPECT_TRUE(LoadFails(dir, scene, {"synth.sunn", "unknown key", "'sun'"}));
+  scene.erase("synth");
   scene["sampler"] = Json{{"chains", 0}};
   EXPECT_TRUE(LoadFails(dir, scene, {"sampler.chains"}));
   scene["sampler"] = Json{{"iterations", 2.5}};
