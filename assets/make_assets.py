@@ -1,7 +1,10 @@
 #!/usr/bin/env python3
 """Writes the bundled example scenes: scene.json, truth.json, cameras.json and albedo
 textures for `box`, `house`, `stairs` and `poster` (after the thesis's experiments), and
-`focal`, the box with camera parameters estimated too (§4.5.3).
+`focal`, the box with camera parameters estimated too (§4.5.3). The clutter assets,
+`house_annex` and `crate_clutter`, also get synth.json: the *true* scene `vkrecon synth`
+photographs (lit by a sun, exposure differing between cameras, with structure that
+scene.json, the model reconstructed with, leaves out).
 
 Reference images are NOT written here: `vkrecon synth` makes them from truth.json, so they
 never drift from the renderer. Only the Python standard library is used; the output is
@@ -101,6 +104,55 @@ def poster_texture(path, size=128):
     write_png(path, size, size, rows)
 
 
+# ---------------------------------------------------------------- meshes (glTF binary)
+def write_sphere_glb(path, rings=16, segments=32):
+    """A UV sphere of diameter 1 centred at the origin, with normals and TEXCOORD_0 (u around,
+    v from the top): one face of the atlas, painted once by the node's albedo."""
+    positions, normals, uvs, indices = [], [], [], []
+    for i in range(rings + 1):
+        theta = math.pi * i / rings          # from the +Y pole (glTF is Y-up)
+        for j in range(segments + 1):
+            phi = 2 * math.pi * j / segments
+            n = (math.sin(theta) * math.cos(phi), math.cos(theta), -math.sin(theta) * math.sin(phi))
+            normals.append(n)
+            positions.append(tuple(0.5 * c for c in n))
+            uvs.append((j / segments, i / rings))
+    for i in range(rings):
+        for j in range(segments):
+            a = i * (segments + 1) + j
+            b = a + segments + 1
+            if i > 0:
+                indices += [a, b, a + 1]
+            if i < rings - 1:
+                indices += [a + 1, b, b + 1]
+    blob = b"".join(struct.pack("<3f", *p) for p in positions)
+    blob += b"".join(struct.pack("<3f", *n) for n in normals)
+    blob += b"".join(struct.pack("<2f", *t) for t in uvs)
+    blob += b"".join(struct.pack("<I", k) for k in indices)
+    nv = len(positions)
+    views = [(0, 12 * nv), (12 * nv, 12 * nv), (24 * nv, 8 * nv), (32 * nv, 4 * len(indices))]
+    gltf = {
+        "asset": {"version": "2.0", "generator": "vkrecon assets/make_assets.py"},
+        "scene": 0, "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}],
+        "meshes": [{"primitives": [{"attributes": {"POSITION": 0, "NORMAL": 1, "TEXCOORD_0": 2},
+                                    "indices": 3, "mode": 4}]}],
+        "buffers": [{"byteLength": len(blob)}],
+        "bufferViews": [{"buffer": 0, "byteOffset": o, "byteLength": n} for o, n in views],
+        "accessors": [
+            {"bufferView": 0, "componentType": 5126, "count": nv, "type": "VEC3",
+             "min": [-0.5, -0.5, -0.5], "max": [0.5, 0.5, 0.5]},
+            {"bufferView": 1, "componentType": 5126, "count": nv, "type": "VEC3"},
+            {"bufferView": 2, "componentType": 5126, "count": nv, "type": "VEC2"},
+            {"bufferView": 3, "componentType": 5125, "count": len(indices), "type": "SCALAR"}],
+    }
+    text = json.dumps(gltf, separators=(",", ":")).encode()
+    text += b" " * (-len(text) % 4)
+    blob += b"\0" * (-len(blob) % 4)
+    body = struct.pack("<II", len(text), 0x4E4F534A) + text + struct.pack("<II", len(blob), 0x004E4942) + blob
+    with open(path, "wb") as f:
+        f.write(struct.pack("<III", 0x46546C67, 2, 12 + len(body)) + body)
+
+
 # ---------------------------------------------------------------- cameras
 def look_at(eye, target, name, image, width=640, height=480, f=560.0):
     """An OpenCV camera (x right, y down, z forward) at `eye` looking at `target`."""
@@ -152,16 +204,28 @@ def box_parameters():
             "w": uniform(0.3, 1.5), "d": uniform(0.3, 1.5), "h": uniform(0.2, 1.0)}
 
 
-def write_asset(name, scene, truth, cameras, textures):
+# How synth photographs the clutter assets (a `synth` block): a sun 40° high with cast
+# shadows, exposures that differ by up to ±30 % between cameras, 3×3 samples per pixel.
+PHOTO = {"sun": [135, 40], "ambient": 0.3, "exposure": 0.3, "supersample": 3}
+
+
+def write_asset(name, scene, truth, cameras, textures, synth_scene=None, meshes=None):
     folder = os.path.join(HERE, name)
     os.makedirs(os.path.join(folder, "textures"), exist_ok=True)
     for file, make in textures.items():
         make(os.path.join(folder, "textures", file))
-    full = {"version": 1, "images": "images/", "cameras": "cameras.json"}
-    full.update(scene)
-    with open(os.path.join(folder, "scene.json"), "w") as f:
-        json.dump(full, f, indent=2)
-        f.write("\n")
+    for file, make in (meshes or {}).items():
+        os.makedirs(os.path.join(folder, "meshes"), exist_ok=True)
+        make(os.path.join(folder, "meshes", file))
+    scenes = {"scene.json": scene}
+    if synth_scene:
+        scenes["synth.json"] = synth_scene
+    for file, body in scenes.items():
+        full = {"version": 1, "images": "images/", "cameras": "cameras.json"}
+        full.update(body)
+        with open(os.path.join(folder, file), "w") as f:
+            json.dump(full, f, indent=2)
+            f.write("\n")
     with open(os.path.join(folder, "truth.json"), "w") as f:
         json.dump(truth, f, indent=2)
         f.write("\n")
@@ -251,6 +315,83 @@ def main():
     }, {"x": 0.12, "y": -0.08, "yaw": 17.0, "w": 0.8, "d": 0.6, "h": 0.5, "f": 1.04, "px": 6.0, "dz": 0.08},
         cameras,
         dict(ground_tex, **{"box.png": lambda p: texture(p, 2, (0.7, 0.35, 0.25))}))
+
+    clutter_assets(ground_tex)
+
+
+def clutter_assets(ground_tex):
+    """Scenes whose photographs hold more than the model: what every real photo set does."""
+    # house_annex: the house's walls and roof (the model: the `house` asset's scene), photographed
+    # with a lower annex against its +x end, a chimney, window frames standing 3 cm proud of the
+    # long walls and a door on the -x gable, and eaves overhanging the walls by 6-7 cm.
+    house_params = {"x": uniform(-0.5, 0.5), "y": uniform(-0.5, 0.5), "yaw": uniform(-45, 45),
+                    "w": uniform(0.3, 1.5), "d": uniform(0.3, 1.5), "h": uniform(0.2, 1.0),
+                    "rh": uniform(0.05, 0.6)}
+    house_truth = {"x": 0.1, "y": 0.05, "yaw": -12.0, "w": 1.1, "d": 0.8, "h": 0.6, "rh": 0.35}
+    walls = {"name": "walls", "primitive": "box", "albedo": "textures/walls.png",
+             "transforms": [{"translate": ["x", "y", 0]}, {"rotate": [0, 0, "yaw"]},
+                            {"scale": ["w", "d", "h"]}]}
+    roof = {"name": "roof", "parent": "walls", "primitive": "prism", "albedo": "textures/roof.png",
+            "transforms": [{"translate": [0, 0, 1]}, {"scale": [1, 1, "rh/h"]}]}
+    # The true scene hangs everything from an unscaled frame at the house's position, so the
+    # extra structure keeps its own size; at the truth it reproduces walls and roof exactly.
+    frame = {"name": "frame", "transforms": [{"translate": ["x", "y", 0]}, {"rotate": [0, 0, "yaw"]}]}
+    true_walls = {"name": "walls", "parent": "frame", "primitive": "box", "albedo": "textures/walls.png",
+                  "transforms": [{"scale": ["w", "d", "h"]}]}
+    true_roof = {"name": "roof", "parent": "frame", "primitive": "prism", "albedo": "textures/roof.png",
+                 "transforms": [{"translate": [0, 0, "h"]}, {"scale": ["w + 0.12", "d + 0.14", "rh"]}]}
+    extras = [
+        {"name": "annex", "parent": "frame", "primitive": "box", "albedo": "textures/annex.png",
+         "transforms": [{"translate": ["w/2 + 0.21", 0, 0]}, {"scale": [0.42, 0.56, 0.34]}]},
+        {"name": "annex_roof", "parent": "frame", "primitive": "prism", "albedo": "textures/roof.png",
+         "transforms": [{"translate": ["w/2 + 0.23", 0, 0.34]}, {"scale": [0.46, 0.62, 0.12]}]},
+        {"name": "chimney", "parent": "frame", "primitive": "box", "albedo": "textures/chimney.png",
+         "transforms": [{"translate": [-0.28, 0.16, "h"]}, {"scale": [0.12, 0.12, "rh + 0.12"]}]},
+        {"name": "door", "parent": "frame", "primitive": "box", "albedo": "textures/window.png",
+         "transforms": [{"translate": ["-w/2 - 0.015", 0.05, 0]}, {"scale": [0.03, 0.2, 0.36]}]},
+    ]
+    for side, sign in (("front", -1), ("back", 1)):
+        for k, along in enumerate((-0.32, 0.0, 0.32)):
+            extras.append({"name": "window_%s%d" % (side, k), "parent": "frame", "primitive": "box",
+                           "albedo": "textures/window.png",
+                           "transforms": [{"translate": [along, "%g*(d/2 + 0.015)" % sign, 0.24]},
+                                          {"scale": [0.17, 0.03, 0.2]}]})
+    write_asset("house_annex", {
+        "parameters": house_params,
+        "nodes": [GROUND, walls, roof],
+        "likelihood": dict(LIKELIHOOD),
+        "sampler": dict(SAMPLER),
+    }, house_truth, ring(7, 3.5, 2.2, [0.0, 0.0, 0.4], jitter=0.15, seed=3),
+        dict(ground_tex, **{"walls.png": lambda p: texture(p, 3, (0.8, 0.75, 0.6)),
+                            "roof.png": lambda p: texture(p, 4, (0.55, 0.2, 0.15)),
+                            "annex.png": lambda p: texture(p, 13, (0.72, 0.7, 0.62)),
+                            "chimney.png": lambda p: texture(p, 14, (0.6, 0.3, 0.22)),
+                            "window.png": lambda p: texture(p, 15, (0.18, 0.2, 0.25), contrast=0.5)}),
+        synth_scene={"parameters": house_params,
+                     "nodes": [GROUND, frame, true_walls, true_roof] + extras,
+                     "synth": dict(PHOTO)})
+
+    # crate_clutter: the box asset's crate, photographed with a ball and a pole standing in
+    # front of it that the model leaves out.
+    crate_truth = {"x": 0.12, "y": -0.08, "yaw": 17.0, "w": 0.8, "d": 0.6, "h": 0.5}
+    clutter = [
+        {"name": "ball", "primitive": {"mesh": "meshes/ball.glb"}, "albedo": "textures/ball.png",
+         "transforms": [{"translate": [0.68, -0.62, 0.19]}, {"scale": [0.38, 0.38, 0.38]}]},
+        {"name": "pole", "primitive": "cylinder", "albedo": "textures/pole.png",
+         "transforms": [{"translate": [-0.62, 0.52, 0]}, {"scale": [0.07, 0.07, 1.3]}]},
+    ]
+    write_asset("crate_clutter", {
+        "parameters": box_parameters(),
+        "nodes": [GROUND, BOX_NODE],
+        "likelihood": dict(LIKELIHOOD),
+        "sampler": dict(SAMPLER),
+    }, crate_truth, ring(9, 3.0, 1.8, [0.0, 0.0, 0.3], jitter=0.15, seed=2),
+        dict(ground_tex, **{"box.png": lambda p: texture(p, 2, (0.7, 0.35, 0.25)),
+                            "ball.png": poster_texture,
+                            "pole.png": lambda p: texture(p, 16, (0.35, 0.45, 0.6))}),
+        synth_scene={"parameters": box_parameters(), "nodes": [GROUND, BOX_NODE] + clutter,
+                     "synth": dict(PHOTO)},
+        meshes={"ball.glb": write_sphere_glb})
 
 
 if __name__ == "__main__":

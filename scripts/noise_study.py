@@ -150,7 +150,9 @@ def load_asset(name):
     scene, truth = read_json(scene_path), read_json(truth_path)
     widths = {k: prior_width(scene_path, k, v.get("prior", {}))
               for k, v in scene.get("parameters", {}).items()}
-    return {"name": name, "scene": scene_path, "truth_path": truth_path,
+    # The clutter assets photograph a truer scene than the model (assets/make_assets.py).
+    synth_path = folder / "synth.json" if (folder / "synth.json").is_file() else scene_path
+    return {"name": name, "scene": scene_path, "synth_scene": synth_path, "truth_path": truth_path,
             "truth": truth, "widths": widths}
 
 
@@ -184,7 +186,7 @@ def likelihood_sigma(mode, sigma):
 def commands(vkrecon, asset, sigma, args, folder):
     """The synth and run command lines of one (asset, σ), as argument lists."""
     images, run = folder / "images", folder / "run"
-    synth = [vkrecon, "synth", rel(asset["scene"]), "--at", rel(asset["truth_path"]),
+    synth = [vkrecon, "synth", rel(asset["synth_scene"]), "--at", rel(asset["truth_path"]),
              "--noise", fmt_sigma(sigma), "--seed", str(args.seed), "-o", rel(images), "--quiet"]
     if args.scale is not None:
         synth += ["--scale", f"{args.scale:g}"]
