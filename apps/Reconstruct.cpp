@@ -49,6 +49,8 @@ class LikelihoodTarget : public opt::Target {
   void RestoreCalibration(const nlohmann::json& calibration) override {
     calibration_ = NoiseCalibrationFromJson(calibration);
     likelihood_.SetSigma(calibration_.sigma);
+    likelihood_.SetPositionSd(calibration_.position_sd);
+    likelihood_.RestorePhotometric(calibration_.photometric);
   }
 
  private:
@@ -242,6 +244,12 @@ ReconstructResult Reconstruct(const ReconstructOptions& options, vk::Device& dev
   setup.max_batch = scene.sampler.batch;
   std::unique_ptr<Likelihood> likelihood = MakeLikelihood(device, scene, setup);
   LikelihoodTarget target(*likelihood, scene.likelihood.sigma_auto);
+  // The photographs' exposures differ: a first colour correction at the initial parameters,
+  // on the coarsest level, where misregistration matters least (refitted at the mode). Done
+  // again, identically, when a run resumes before its first calibration.
+  likelihood->SetLevel(likelihood->levels() - 1);
+  likelihood->CalibratePhotometric(scene.InitialValues());
+  likelihood->SetLevel(0);
 
   opt::SamplerOptions sampler_options;
   sampler_options.coarse_levels = likelihood->levels();
@@ -315,7 +323,13 @@ ReconstructResult Reconstruct(const ReconstructOptions& options, vk::Device& dev
   SurfaceLikelihoodOptions surface = SurfaceLikelihoodOptions::FromScene(scene);
   surface.max_batch = 1;
   surface.model.sigma = SigmaUsed(scene, summary);
+  if (summary.calibration.is_object()) {
+    const NoiseCalibration calibration = NoiseCalibrationFromJson(summary.calibration);
+    surface.model.position_sd = calibration.position_sd;
+  }
   SurfaceLikelihood outputs(device, scene, surface);
+  if (summary.calibration.is_object() && !summary.calibration["photometric"].is_null())
+    outputs.SetPhotometric(PhotometricFromJson(summary.calibration["photometric"], int(scene.cameras.size())));
   Evaluation at_map;
   const SurfaceDump dump = outputs.EvaluateAndDump(summary.map, &at_map);
   const Image composite = DilateAtlas(dump.composite);

@@ -1,21 +1,25 @@
 #pragma once
 // What a likelihood reduces one hypothesis to, and how the host turns those few scalars
-// into a log-likelihood (DESIGN.md, "The likelihoods", step 4; thesis §7.4).
+// into a log-likelihood (DESIGN.md, "The likelihoods", step 4; thesis §7.4;
+// docs/LIKELIHOOD.md explains every choice).
 //
-// Per atlas texel t that lies on the surface and outside every other primitive, with n_t
-// views seeing it (weight w_i ∈ (0, 1], colours c_i ∈ [0,1]³):
-//   mean      μ_t = Σ w_i c_i / Σ w_i
-//   deviation s_t = Σ w_i ‖c_i − μ_t‖²
-//   dof       d_t = 3 (Σ w_i − Σ w_i² / Σ w_i)     (equal weights: 3 (n_t − 1))
-// A weight is a reliability: an oblique or distant view, whose pixel integrates more surface
-// than one texel, counts less (§6.3), and so does a view whose image is steep where the
-// texel lands, since a projection uncertain by δ pixels (calibration, rasterisation,
-// anti-aliasing) adds about (δ·|∇I|)² of colour error: w_i = w_geometry / (1 + (δ|∇I|/σ)²).
-// d_t is the expectation of s_t / σ² when every view carries noise σ, whatever the
-// weights, so the χ² correction below stays calibrated: with d_t = 3(n_t − 1) and weights
-// below 1, S/σ² would fall short of N and every visible texel would look like a reward.
-// A texel's contribution is capped at `robust_cap` per degree of freedom, so a few
-// outliers (specularities, anti-aliased silhouettes) cannot dominate.
+// The surface likelihood's model, per atlas texel t on the surface and outside every other
+// primitive, seen by views i with colour c_i (photometrically corrected, c = gain·c_raw +
+// offset per view and channel, Photometric.h) and weight w_i ∈ (0, 1] (§6.3: an oblique or
+// distant view, whose pixel integrates more surface than one texel, counts less):
+//   noise     v_i = σ² + δ²|∇I_i|² per channel: a projection uncertain by δ pixels
+//             (calibration, resampling, relief a flat face cannot show) turns into colour
+//             error through the image's local texture, so textured surface does not set the
+//             noise of plain surface
+//   consensus μ_t = Σ ω_i p_i c_i / Σ ω_i p_i, p_i = w_i / v_i, with Welsch weights
+//             ω_i ∝ e^(−e²_i/K) refitted a few times (e²_i = ‖c_i − μ_t‖²/v_i): a view
+//             far from the others' consensus (an occluder the scene lacks) stops pulling it
+//   loss      χ_t = Σ w_i ρ(e²_i), ρ(e²) = K (1 − e^(−e²/K)): quadratic for small
+//             deviations, at most K for an outlier view, so one view cannot dominate
+//   expected  d_t = E[χ_t] under the noise model alone (the effective degrees of freedom;
+//             for K → ∞ it is 3(Σ w_i − Σ w_i p_i / Σ p_i), and 3(n_t − 1) for equal weights)
+// The χ² correction compares χ_t with d_t, so surface whose views agree as well as noise
+// allows is neutral, whatever the number of views that see it.
 
 #include <cstdint>
 #include <string>
@@ -25,22 +29,31 @@ namespace vkr {
 // The scalars a GPU reduction produces for one hypothesis (also what the CPU reference
 // computes). Colours are on the [0,1] scale.
 struct ReducedScalars {
-  double sum_squares = 0.0;   // Σ_t min(s_t / σ², cap · d_t) · σ² over texels with n_t ≥ 2
-  double dof = 0.0;           // Σ_t d_t (effective degrees of freedom)
+  double sum_squares = 0.0;   // S = σ² Σ_t χ_t over texels with n_t ≥ 2 (so S/σ² is the χ²)
+  double dof = 0.0;           // N = Σ_t d_t, the χ²'s expectation under the noise model
   uint32_t seen_multi = 0;    // exterior texels seen by ≥ 2 views
   uint32_t seen_once = 0;     // exterior texels seen by exactly 1 view
   uint32_t seen_none = 0;     // exterior texels seen by no view
   uint32_t interior = 0;      // texels inside (or on the boundary of) another primitive
+  uint32_t views = 0;         // view samples of the texels seen by ≥ 2 views
+  uint32_t outlier_views = 0; // of those, views with e² > K (their loss is mostly saturated)
 };
 
 struct LikelihoodModel {
-  double sigma = 8.0;          // noise sd on the 0–255 scale
+  double sigma = 8.0;          // σ: noise sd on the 0–255 scale
+  double position_sd = 0.5;    // δ in pixels (surface likelihood; 0 turns the texture term off)
   bool chi2_correction = true; // §7.4: compare S/σ² with its expectation N
-  double robust_cap = 9.0;     // per-dof cap of a texel's s_t/σ² (∞ disables)
-  // §7.1: log-prior penalty per exterior texel no view sees, in units of one degree of
-  // freedom's expected contribution (so 1.5 ≈ a texel seen by two views that disagree
-  // by one σ). Surface hidden from every camera is not free.
+  // K, the surface likelihood's per-view χ² (3 channels) at which the loss saturates:
+  // a view 3σ off in every channel (e² = 27) is mostly an outlier.
+  double outlier_chi2 = 27.0;
+  double robust_cap = 9.0;     // image likelihood: per-dof cap of a pixel pair's χ²
+  // §7.1: log-prior penalty per exterior texel that no view sees, in units of one degree of
+  // freedom's expected contribution. Surface hidden from every camera is not free.
   double unseen_penalty = 1.0;
+  // The same for a texel only one view sees: one photograph cannot check it, so surface
+  // moved where only one camera looks must not escape the comparison for free
+  // (docs/LIKELIHOOD.md, "No free surface").
+  double unverified_penalty = 1.0;
 };
 
 struct Evaluation {

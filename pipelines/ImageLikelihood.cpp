@@ -111,10 +111,18 @@ struct ImageLikelihood::Impl {
   int level = 0;
   int last_batch = 0;
 
+  // seen_once here counts target pixels that no source sees, compared by no pair: the
+  // occlusion prior's charge for surface one view alone sees (Evaluation.h) is the surface
+  // likelihood's and does not apply.
+  static ImageLikelihoodOptions WithoutUnverifiedCharge(ImageLikelihoodOptions o) {
+    o.model.unverified_penalty = 0.0;
+    return o;
+  }
+
   Impl(vk::Device& d, const Scene& s, const ImageLikelihoodOptions& o)
       : device(&d),
         scene(&s),
-        options(o),
+        options(WithoutUnverifiedCharge(o)),
         geometry(BuildSceneGeometry(s, s.InitialValues(), kImageUnusedAtlas)),
         transfer(d),
         context(d),

@@ -11,6 +11,8 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "engine/image/Image.h"
 #include "pipelines/Evaluation.h"
 
@@ -20,7 +22,8 @@ namespace vkr {
 struct DumpImage {
   enum class Kind {
     Colour,     // encoded colour (a texture, a composite): EXR as linear light, like `render`
-    Deviation,  // data: r = s_t/σ², g = d_t (dof), b = 1 on interior texels, a = 1 on surface
+    Deviation,  // data: r = χ_t, g = d_t (dof), b = 1 on interior texels, a = 1 on surface
+    Data,       // other numbers, stored as they are (no preview)
   };
   std::string name;  // file stem: "view_<camera>", "composite", "deviation", …
   Kind kind = Kind::Colour;
@@ -47,6 +50,18 @@ class Likelihood {
   virtual int levels() const = 0;
   // Noise σ (0–255 scale) of the next evaluations: `sigma: auto` estimates it at the mode.
   virtual void SetSigma(double sigma_255) = 0;
+  // δ (pixels) of the noise model's texture term (Evaluation.h), estimated with σ; the
+  // image-space kind keeps its own.
+  virtual void SetPositionSd(double pixels) { (void)pixels; }
+  // Fits the per-camera colour correction (Photometric.h) at ψ, at the current level, and
+  // scores with it from now on. Returns it as JSON; null when the likelihood has none (the
+  // image-space kind, or `photometric: none`).
+  virtual nlohmann::json CalibratePhotometric(const std::vector<double>& psi) {
+    (void)psi;
+    return nullptr;
+  }
+  // Puts back what CalibratePhotometric returned (a resumed run).
+  virtual void RestorePhotometric(const nlohmann::json& correction) { (void)correction; }
 
   // One evaluation per hypothesis, in one GPU submission; batch.size() ≤ max_batch().
   virtual std::vector<Evaluation> Evaluate(const std::vector<std::vector<double>>& batch) = 0;

@@ -13,7 +13,9 @@
 
 #include "engine/common/InputError.h"
 #include "engine/image/LinePlot.h"
+#include "engine/geometry/SceneGeometry.h"
 #include "pipelines/ImageLikelihood.h"
+#include "pipelines/Residuals.h"
 #include "pipelines/SurfaceLikelihood.h"
 
 namespace fs = std::filesystem;
@@ -47,6 +49,20 @@ class SurfaceAdapter final : public Adapter<SurfaceLikelihood, SurfaceLikelihood
  public:
   using Adapter::Adapter;
   std::string kind() const override { return "surface"; }
+  void SetPositionSd(double pixels) override { likelihood_.SetPositionSd(pixels); }
+
+  nlohmann::json CalibratePhotometric(const std::vector<double>& psi) override {
+    const PhotometricModel model = likelihood_.options().photometric;
+    if (model == PhotometricModel::None) return nullptr;
+    const SurfaceDump dump = likelihood_.EvaluateAndDump(psi);
+    const PhotometricCorrection correction = FitPhotometric(dump.view_textures, model);
+    likelihood_.SetPhotometric(correction);
+    return ToJson(correction);
+  }
+  void RestorePhotometric(const nlohmann::json& correction) override {
+    if (correction.is_null()) return;
+    likelihood_.SetPhotometric(PhotometricFromJson(correction, int(likelihood_.scene().cameras.size())));
+  }
 
   LikelihoodDump EvaluateAndDump(const std::vector<double>& psi, Evaluation* evaluation) override {
     SurfaceDump surface = likelihood_.EvaluateAndDump(psi, evaluation);
@@ -59,6 +75,7 @@ class SurfaceAdapter final : public Adapter<SurfaceLikelihood, SurfaceLikelihood
     }
     dump.images.push_back({"composite", DumpImage::Kind::Colour, true, std::move(surface.composite)});
     dump.images.push_back({"deviation", DumpImage::Kind::Deviation, true, std::move(surface.deviation)});
+    dump.images.push_back({"noise", DumpImage::Kind::Data, false, std::move(surface.noise)});
     return dump;
   }
 };
@@ -116,6 +133,9 @@ void Build(Session& s, vk::Device& device, const LikelihoodToolOptions& options,
     throw InputError("", "--level", "level " + std::to_string(options.level) + " is outside [0, " +
                                         std::to_string(s.likelihood->levels() - 1) + "]");
   s.likelihood->SetLevel(options.level);
+  // Exposure and white balance differ between photographs: fit the colour correction once,
+  // at the hypothesis asked about, and keep it for every evaluation (a sweep's too).
+  s.likelihood->CalibratePhotometric(s.at);
 }
 
 std::string Number(double x) {
@@ -240,6 +260,12 @@ LikelihoodReport EvaluateAt(const LikelihoodToolOptions& options, vk::Device& de
   if (options.dump_dir) {
     const LikelihoodDump dump = s.likelihood->EvaluateAndDump(s.at, &r.evaluation);
     r.dump_files = WriteDump(dump, *options.dump_dir);
+    if (s.likelihood->kind() == "surface") {
+      const SceneGeometry geometry = BuildSceneGeometry(s.scene, s.scene.InitialValues(), s.scene.likelihood.atlas);
+      const fs::path csv = *options.dump_dir / "nodes.csv";
+      WriteNodeResidualsCsv(csv, NodeResiduals(s.scene, geometry.atlas, dump));
+      r.dump_files.push_back(csv);
+    }
   } else {
     r.evaluation = s.likelihood->Evaluate({s.at}).at(0);
   }
@@ -418,7 +444,7 @@ std::vector<fs::path> WriteDump(const LikelihoodDump& dump, const fs::path& dir)
   std::vector<fs::path> written;
   for (const DumpImage& d : dump.images) {
     const fs::path exr = dir / (FileStem(d.name) + ".exr");
-    if (d.kind == DumpImage::Kind::Deviation) {
+    if (d.kind != DumpImage::Kind::Colour) {
       // Data, not colour: encode so that WriteExr's decoding stores the numbers themselves.
       Image raw = d.image;
       for (size_t i = 0; i < raw.rgba.size(); i += 4)

@@ -19,22 +19,25 @@ const Image* FindImage(const LikelihoodDump& dump, const std::string& name) {
 }  // namespace
 
 nlohmann::json ToJson(const NoiseCalibration& c) {
-  return {{"sigma", c.sigma},         {"sigma_estimated", c.sigma_estimated}, {"kappa", c.kappa},
-          {"kappa_min", c.kappa_min}, {"kappa_max", c.kappa_max},             {"blocks", c.blocks},
-          {"chi2_per_dof", c.chi2_per_dof}};
+  return {{"sigma", c.sigma},         {"position_sd", c.position_sd}, {"sigma_estimated", c.sigma_estimated},
+          {"kappa", c.kappa},         {"kappa_min", c.kappa_min},     {"kappa_max", c.kappa_max},
+          {"blocks", c.blocks},       {"chi2_per_dof", c.chi2_per_dof}, {"photometric", c.photometric}};
 }
 
 NoiseCalibration NoiseCalibrationFromJson(const nlohmann::json& j) {
   try {
     NoiseCalibration c;
     c.sigma = j.at("sigma").get<double>();
+    c.position_sd = j.at("position_sd").get<double>();
+    c.photometric = j.at("photometric");
     c.sigma_estimated = j.at("sigma_estimated").get<bool>();
     c.kappa = j.at("kappa").get<double>();
     c.kappa_min = j.at("kappa_min").get<double>();
     c.kappa_max = j.at("kappa_max").get<double>();
     c.blocks = j.at("blocks").get<int>();
     c.chi2_per_dof = j.at("chi2_per_dof").get<double>();
-    if (!(c.sigma > 0.0) || !(c.kappa > 0.0)) throw std::invalid_argument("sigma or kappa out of range");
+    if (!(c.sigma > 0.0) || !(c.kappa > 0.0) || !(c.position_sd >= 0.0))
+      throw std::invalid_argument("sigma, position_sd or kappa out of range");
     return c;
   } catch (const nlohmann::json::exception& e) {
     throw std::invalid_argument(std::string("noise calibration: ") + e.what());
@@ -103,37 +106,78 @@ void SandwichFactor(Likelihood& likelihood, const std::vector<double>& psi, cons
 
 }  // namespace
 
+namespace {
+
+// σ and δ such that χ = N over all texels and over the textured ones (NoiseCalibration.h).
+// A texel whose noise model puts a share u of its variance on the texture term has
+// χ/d ≈ (1 − u)·s + u·r when the true σ² and δ² are s and r times the model's; the two
+// weighted sums give s and r, and a few rounds settle the robust loss and the weights.
+void EstimateSigmaAndDelta(Likelihood& likelihood, const std::vector<double>& psi, double sigma_floor,
+                           NoiseCalibration* c) {
+  constexpr double kMinDelta = 0.05, kMaxDelta = 4.0;  // pixels
+  for (int round = 0; round < 6; ++round) {
+    const LikelihoodDump dump = likelihood.EvaluateAndDump(psi, nullptr);
+    const Image* deviation = FindImage(dump, "deviation");
+    const Image* noise = FindImage(dump, "noise");
+    if (!deviation) return;
+    double a11 = 0, a12 = 0, a22 = 0, b1 = 0, b2 = 0;
+    for (size_t t = 0; t < deviation->rgba.size(); t += 4) {
+      const double chi = deviation->rgba[t], d = deviation->rgba[t + 1];
+      if (!(d > 0.0)) continue;
+      const double u = noise ? std::clamp(double(noise->rgba[t]), 0.0, 1.0) : 0.0;
+      a11 += d * (1 - u), a12 += d * u, a22 += d * u * u, b1 += chi, b2 += u * chi;
+    }
+    if (!(a11 + a12 > 0.0)) return;
+    // Σ d u(1−u) = a12 − a22.
+    const double m11 = a11, m12 = a12, m21 = a12 - a22, m22 = a22;
+    const double det = m11 * m22 - m12 * m21;
+    double s = b1 / (a11 + a12), r = s;  // without texture to tell them apart: one factor
+    if (noise && det > 1e-3 * (m11 + m22) * (m11 + m22)) {
+      s = (b1 * m22 - m12 * b2) / det;
+      r = (m11 * b2 - m21 * b1) / det;
+    }
+    if (!(s > 0.0)) s = 1e-2;
+    if (!(r > 0.0)) r = 1e-2;
+    const double sigma = std::max(c->sigma * std::sqrt(s), sigma_floor);
+    const double delta = std::clamp(c->position_sd * std::sqrt(r), kMinDelta, kMaxDelta);
+    const bool settled = std::abs(sigma - c->sigma) < 1e-3 * c->sigma && std::abs(delta - c->position_sd) < 1e-3 * c->position_sd;
+    c->sigma = sigma;
+    c->position_sd = delta;
+    likelihood.SetSigma(c->sigma);
+    likelihood.SetPositionSd(c->position_sd);
+    if (settled) return;
+  }
+}
+
+}  // namespace
+
 NoiseCalibration CalibrateNoise(Likelihood& likelihood, const std::vector<double>& psi,
                                 const std::vector<double>& covariance, double current_kappa,
                                 bool estimate_sigma, double sigma_floor) {
   const int level = likelihood.level();
   likelihood.SetLevel(0);
   NoiseCalibration c;
+  c.photometric = likelihood.CalibratePhotometric(psi);
   const double sigma_before = likelihood.model().sigma;
   c.sigma = sigma_before;
+  c.position_sd = likelihood.model().position_sd;
   c.sigma_estimated = estimate_sigma;
-  if (estimate_sigma) {
-    // σ² ← S/N: S is capped at 9 dof·σ² per texel, so the cap moves with σ; a few rounds
-    // settle it (the capped texels are the few outliers).
-    for (int round = 0; round < 4; ++round) {
-      const Evaluation e = likelihood.Evaluate({psi})[0];
-      if (!(e.scalars.dof > 0.0)) break;
-      const double next = std::max(255.0 * std::sqrt(e.scalars.sum_squares / e.scalars.dof), sigma_floor);
-      const bool settled = std::abs(next - c.sigma) < 1e-3 * c.sigma;
-      c.sigma = next;
-      likelihood.SetSigma(c.sigma);
-      if (settled) break;
-    }
-  }
-  c.chi2_per_dof = Chi2PerDof(likelihood.Evaluate({psi})[0].scalars, c.sigma);
+  const ReducedScalars before = likelihood.Evaluate({psi})[0].scalars;
+  if (estimate_sigma) EstimateSigmaAndDelta(likelihood, psi, sigma_floor, &c);
+  const ReducedScalars after = likelihood.Evaluate({psi})[0].scalars;
+  c.chi2_per_dof = Chi2PerDof(after, c.sigma);
   const size_t d = psi.size();
   if (covariance.size() == d * d && d > 0) {
-    // The curvature of the raw log-likelihood at the new σ: undo κ, and the S term scales
-    // with 1/σ² (the N term has no curvature).
+    // The curvature of the raw log-likelihood under the new noise model: undo κ, and scale
+    // by how much the noise model changed the χ² of the same deviations (its precisions
+    // changed by about that much; for σ alone it is σ²_before/σ²; the N term has no curvature).
     Eigen::MatrixXd inverse_h(d, d);
     for (size_t i = 0; i < d; ++i)
       for (size_t k = 0; k < d; ++k) inverse_h(Eigen::Index(i), Eigen::Index(k)) = covariance[i * d + k];
-    inverse_h *= (c.sigma * c.sigma) / (sigma_before * sigma_before) / current_kappa;
+    const double chi_before = before.sum_squares / std::pow(sigma_before / 255.0, 2);
+    const double chi_after = after.sum_squares / std::pow(c.sigma / 255.0, 2);
+    const double precision_ratio = chi_before > 0.0 && chi_after > 0.0 ? chi_after / chi_before : 1.0;
+    inverse_h *= 1.0 / precision_ratio / current_kappa;
     SandwichFactor(likelihood, psi, inverse_h, &c);
   }
   likelihood.SetLevel(level);

@@ -10,7 +10,7 @@ namespace {
 // Mirrors `Scalars` in shaders_glsl/scalars.glsl (std430).
 struct GpuScalars {
   float sum_squares, dof;
-  uint32_t seen_multi, seen_once, seen_none, interior, pad0, pad1;
+  uint32_t seen_multi, seen_once, seen_none, interior, views, outlier_views;
 };
 static_assert(sizeof(GpuScalars) == 32);
 
@@ -61,6 +61,8 @@ ReducedScalars ReducePass::Result(int slot) const {
   r.seen_once = g.seen_once;
   r.seen_none = g.seen_none;
   r.interior = g.interior;
+  r.views = g.views;
+  r.outlier_views = g.outlier_views;
   return r;
 }
 

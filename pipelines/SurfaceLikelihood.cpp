@@ -11,7 +11,7 @@
 #include "pipelines/CompositePass.h"
 #include "pipelines/DepthPass.h"
 #include "pipelines/GpuScene.h"
-#include "pipelines/HalfFloat.h"
+#include "pipelines/ViewTexel.h"
 #include "pipelines/InteriorPass.h"
 #include "pipelines/Projection.h"
 #include "pipelines/ReferenceImages.h"
@@ -34,12 +34,12 @@ bool SurfaceLikelihoodOptions::IsValid(std::string* why) const {
     return false;
   };
   if (!(model.sigma > 0.0)) return fail("sigma must be > 0");
-  if (!(model.robust_cap > 0.0)) return fail("robust_cap must be > 0");
+  if (!(model.outlier_chi2 > 0.0)) return fail("outlier_chi2 must be > 0");
   if (atlas < 16 || (atlas & (atlas - 1)) != 0) return fail("atlas must be a power of two ≥ 16");
   if (levels < 1 || (atlas >> (levels - 1)) < 16) return fail("too many levels for the atlas size");
   if (max_batch < 1) return fail("max_batch must be ≥ 1");
   if (!(depth_tolerance >= 0.0 && depth_tolerance < 0.5)) return fail("depth_tolerance must be in [0, 0.5)");
-  if (!(position_sd >= 0.0 && position_sd <= 10.0)) return fail("position_sd must be in [0, 10] pixels");
+  if (!(model.position_sd >= 0.0 && model.position_sd <= 10.0)) return fail("position_sd must be in [0, 10] pixels");
   return true;
 }
 
@@ -48,6 +48,8 @@ SurfaceLikelihoodOptions SurfaceLikelihoodOptions::FromScene(const Scene& scene)
   o.model.sigma = scene.likelihood.sigma;
   if (!FromString(scene.likelihood.weights, &o.weights))
     throw InputError(scene.file.string(), "likelihood.weights", "must be uniform or angle");
+  if (!FromString(scene.likelihood.photometric, &o.photometric))
+    throw InputError(scene.file.string(), "likelihood.photometric", "must be none, gain or affine");
   o.atlas = scene.likelihood.atlas;
   o.levels = scene.likelihood.levels;
   o.max_batch = scene.sampler.batch;
@@ -87,6 +89,7 @@ struct SurfaceLikelihood::Impl {
   InteriorPass interior_pass;
   std::unique_ptr<CompositePass> composite_pass;
   std::unique_ptr<vk::TimestampQueries> timestamps;
+  PhotometricCorrection photometric;
   int level = 0;
   int last_batch = 0;
   bool views_defined = false;  // the view layers have been cleared once
@@ -164,7 +167,7 @@ struct SurfaceLikelihood::Impl {
     if (dump)  // the previous dump's readback is done (fenced); only order against this write
       vk::MemoryBarrier(cmd, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_MEMORY_READ_BIT,
                         VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
-    composite_pass->record(cmd, slot, LevelAtlas(), options.model.sigma, options.model.robust_cap, dump);
+    composite_pass->record(cmd, slot, LevelAtlas(), options.model, dump);
     Timestamp(cmd, ts + 4);
   }
 
@@ -227,12 +230,12 @@ SurfaceLikelihood::SurfaceLikelihood(vk::Device& device, const Scene& scene,
                                  VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_STORAGE_BIT});
   for (int i = 0; i < n; ++i) m.view_layers.push_back(vk::CreateLayerView(device, m.views, uint32_t(i)));
   m.view_pass = std::make_unique<ViewTexturePass>(device, m.gpu_scene, n * levels,
-                                                  options.weights == ViewWeights::Angle, options.depth_tolerance,
-                                                  options.model.sigma, options.position_sd);
+                                                  options.weights == ViewWeights::Angle, options.depth_tolerance);
   for (int i = 0; i < n; ++i)
     for (int l = 0; l < levels; ++l)
       m.view_pass->BindImages(i * levels + l, m.cameras[i].reference.view(), m.cameras[i].depth[l].view());
   m.composite_pass = std::make_unique<CompositePass>(device, m.views, m.mask, options.max_batch);
+  m.photometric = PhotometricCorrection::Identity(n);
   if (options.profile)
     m.timestamps = std::make_unique<vk::TimestampQueries>(
         device, uint32_t(options.max_batch * kTimestampsPerHypothesis + 1));
@@ -245,6 +248,19 @@ void SurfaceLikelihood::SetSigma(double sigma_255) {
     throw std::invalid_argument("SurfaceLikelihood::SetSigma: sigma must be > 0");
   impl_->options.model.sigma = sigma_255;
 }
+
+void SurfaceLikelihood::SetPositionSd(double pixels) {
+  if (!(std::isfinite(pixels) && pixels >= 0.0))
+    throw std::invalid_argument("SurfaceLikelihood::SetPositionSd: must be ≥ 0");
+  impl_->options.model.position_sd = pixels;
+}
+
+void SurfaceLikelihood::SetPhotometric(const PhotometricCorrection& correction) {
+  impl_->composite_pass->SetPhotometric(correction);
+  impl_->photometric = correction;
+}
+
+const PhotometricCorrection& SurfaceLikelihood::photometric() const { return impl_->photometric; }
 
 void SurfaceLikelihood::SetLevel(int level) {
   if (level < 0 || level >= impl_->options.levels)
@@ -274,17 +290,23 @@ SurfaceDump SurfaceLikelihood::EvaluateAndDump(const std::vector<double>& psi, E
     return out;
   };
   SurfaceDump dump;
-  std::vector<uint16_t> halves(size_t(full) * full * 4);
-  std::vector<float> floats(halves.size());
+  std::vector<uint32_t> words(size_t(full) * full * 2);
+  std::vector<float> floats(size_t(full) * full * 4);
   for (uint32_t i = 0; i < m.views.info().layers; ++i) {
-    m.transfer.ReadImage(m.views, i, VK_IMAGE_LAYOUT_GENERAL, halves.data());
-    for (size_t k = 0; k < halves.size(); ++k) floats[k] = HalfToFloat(halves[k]);
+    m.transfer.ReadImage(m.views, i, VK_IMAGE_LAYOUT_GENERAL, words.data());
+    for (size_t k = 0; k < size_t(full) * full; ++k) {
+      const ViewTexel t = UnpackViewTexel(words[2 * k], words[2 * k + 1]);
+      for (int c = 0; c < 3; ++c) floats[4 * k + size_t(c)] = t.colour[c];
+      floats[4 * k + 3] = t.weight;
+    }
     dump.view_textures.push_back(crop(floats));
   }
   m.transfer.ReadImage(m.composite_pass->composite(), 0, VK_IMAGE_LAYOUT_GENERAL, floats.data());
   dump.composite = crop(floats);
   m.transfer.ReadImage(m.composite_pass->deviation(), 0, VK_IMAGE_LAYOUT_GENERAL, floats.data());
   dump.deviation = crop(floats);
+  m.transfer.ReadImage(m.composite_pass->noise(), 0, VK_IMAGE_LAYOUT_GENERAL, floats.data());
+  dump.noise = crop(floats);
   return dump;
 }
 

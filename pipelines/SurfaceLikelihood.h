@@ -17,6 +17,7 @@
 #include "engine/scene/Scene.h"
 #include "engine/vk/Device.h"
 #include "pipelines/Evaluation.h"
+#include "pipelines/Photometric.h"
 
 namespace vkr {
 
@@ -32,21 +33,22 @@ struct SurfaceLikelihoodOptions {
   int max_batch = 16;     // the most hypotheses one Evaluate() takes
   // Relative depth tolerance of the shadow-map visibility test (a slope term is added).
   double depth_tolerance = 0.004;
-  // δ of the noise model (Evaluation.h): how many pixels a projection may be off by.
-  // 0 turns the gradient term off.
-  double position_sd = 0.5;
+  // What the per-camera colour correction may change (Photometric.h); it is fitted by
+  // CalibratePhotometric, the identity until then.
+  PhotometricModel photometric = PhotometricModel::None;
   bool profile = false;   // GPU timestamps around every pass (see LastPassTimesMs)
 
   bool IsValid(std::string* why) const;
-  // Reads σ, weights, atlas and levels from the scene's "likelihood" settings.
+  // Reads σ, weights, atlas, levels and the photometric model from the scene's "likelihood" settings.
   static SurfaceLikelihoodOptions FromScene(const Scene& scene);
 };
 
 // The textures of one evaluation, for `vkrecon likelihood --dump` (thesis Figs 5.9, 6.5, 7.25).
 struct SurfaceDump {
-  std::vector<Image> view_textures;  // per camera: rgb = colour seen, a = weight
-  Image composite;                   // rgb = weighted mean, a = number of views
-  Image deviation;                   // r = s_t / σ² (capped), g = d_t, b = interior (1) , a = 1 on surface
+  std::vector<Image> view_textures;  // per camera: rgb = colour seen (as stored), a = weight
+  Image composite;                   // rgb = consensus colour (corrected), a = number of views
+  Image deviation;                   // r = χ_t, g = d_t, b = interior (1), a = 1 on surface
+  Image noise;                       // r = texture share of the noise, g = outlier views, b = views, a = surface
 };
 
 class SurfaceLikelihood {
@@ -62,6 +64,11 @@ class SurfaceLikelihood {
   void SetLevel(int level);
   // Noise σ (0–255 scale, > 0) of the next evaluations; `sigma: auto` runs estimate it.
   void SetSigma(double sigma_255);
+  // δ (pixels, ≥ 0) of the noise model's texture term (Evaluation.h).
+  void SetPositionSd(double pixels);
+  // The per-camera colour correction of the next evaluations.
+  void SetPhotometric(const PhotometricCorrection& correction);
+  const PhotometricCorrection& photometric() const;
   int level() const;
   int levels() const;
 

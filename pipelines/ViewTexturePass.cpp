@@ -17,21 +17,17 @@ struct ViewTexturePush {
   float params[4];  // fx·fy, depth tolerance, weights mode, near
   uint32_t node_offset;
   float level;
-  float position_sd_over_sigma;  // δ/σ, σ on the [0,1] colour scale
 };
 static_assert(sizeof(ViewTexturePush) <= 128, "push constants beyond the guaranteed 128 bytes");
 
 }  // namespace
 
 ViewTexturePass::ViewTexturePass(vk::Device& device, const GpuScene& scene, int bindings,
-                                 bool angle_weights, double depth_tolerance, double sigma_255,
-                                 double position_sd)
+                                 bool angle_weights, double depth_tolerance)
     : device_(&device),
       scene_(&scene),
       angle_weights_(angle_weights),
       depth_tolerance_(depth_tolerance),
-      sigma_(sigma_255 / 255.0),
-      position_sd_(position_sd),
       trilinear_(vk::CreateTrilinearClampSampler(device)),
       nearest_(vk::CreateNearestClampSampler(device)) {
   const std::vector<VkDescriptorSetLayoutBinding> layout_bindings = {
@@ -78,12 +74,12 @@ void ViewTexturePass::record(VkCommandBuffer cmd, const ViewCamera& camera, int 
   push.params[3] = float(kDefaultNear);
   push.node_offset = scene_->node_offset(slot);
   push.level = float(camera.level);
-  push.position_sd_over_sigma = float(position_sd_ / sigma_);
   // Every chart texel is written (weight 0 where the camera cannot see it) and the composite
   // reads no other, so the layer need not be cleared: on lavapipe the clear was 10 % of
   // the pass.
-  const std::optional<VkClearColorValue> zero =
-      clear ? std::optional<VkClearColorValue>(VkClearColorValue{{0.0f, 0.0f, 0.0f, 0.0f}}) : std::nullopt;
+  VkClearColorValue nothing{};
+  nothing.uint32[0] = nothing.uint32[1] = 0u;  // weight 0: no camera sees the texel
+  const std::optional<VkClearColorValue> zero = clear ? std::optional<VkClearColorValue>(nothing) : std::nullopt;
   BeginRendering(cmd, atlas_size, atlas_size, target, zero, VK_NULL_HANDLE);
   vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline_);
   vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_, 0, 1, &sets_.at(binding), 0,

@@ -1,7 +1,8 @@
 #pragma once
 // View-specific texture pass (thesis §5.2–5.5, DESIGN.md step 2): for camera i, rasterise
 // every face in atlas space and write, per texel, the colour r_i shows at the texel's
-// projection and a weight (§6.3), or weight 0 where camera i cannot see the texel.
+// projection, a weight (§6.3) and the image's texture there (shaders_glsl/view_texel.glsl),
+// or weight 0 where camera i cannot see the texel.
 
 #include <Eigen/Core>
 #include <vector>
@@ -24,13 +25,12 @@ struct ViewCamera {
 
 class ViewTexturePass {
  public:
-  static constexpr VkFormat kFormat = VK_FORMAT_R16G16B16A16_SFLOAT;
+  static constexpr VkFormat kFormat = VK_FORMAT_R32G32_UINT;  // view_texel.glsl, ViewTexel.h
 
   // `bindings`: how many (reference image, depth map) pairs will be bound, one per camera
   // and pyramid level. `angle_weights` false: every visible texel weighs 1.
-  // `sigma_255` and `position_sd`: the noise model of Evaluation.h.
   ViewTexturePass(vk::Device& device, const GpuScene& scene, int bindings, bool angle_weights,
-                  double depth_tolerance, double sigma_255, double position_sd);
+                  double depth_tolerance);
 
   // Binds pair `index` (once, at creation of the likelihood): `reference` (a mip chain, the
   // image pyramid) in SHADER_READ_ONLY_OPTIMAL, `depth` in DEPTH_READ_ONLY_OPTIMAL when recorded.
@@ -46,7 +46,7 @@ class ViewTexturePass {
   vk::Device* device_;
   const GpuScene* scene_;
   bool angle_weights_;
-  double depth_tolerance_, sigma_, position_sd_;
+  double depth_tolerance_;
   vk::Sampler trilinear_, nearest_;
   vk::DescriptorSetLayout set_layout_;
   vk::PipelineLayout layout_;

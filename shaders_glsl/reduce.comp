@@ -19,13 +19,7 @@ void main() {
   const uint base = gl_WorkGroupID.x * pc.partial_stride;
   Scalars mine = Scalars(0.0, 0.0, 0u, 0u, 0u, 0u, 0u, 0u);
   for (uint i = tid; i < pc.partial_count; i += 256u) {
-    const Scalars p = partials[base + i];
-    mine.sum_squares += p.sum_squares;
-    mine.dof += p.dof;
-    mine.seen_multi += p.seen_multi;
-    mine.seen_once += p.seen_once;
-    mine.seen_none += p.seen_none;
-    mine.interior += p.interior;
+    mine = AddScalars(mine, partials[base + i]);
   }
   const Scalars total = ReduceWorkgroup(tid, mine);
   if (tid == 0u) results[gl_WorkGroupID.x] = total;

@@ -5,17 +5,20 @@
 shared float s_sum[256];
 shared float s_dof[256];
 shared uvec4 s_counts[256];
+shared uvec2 s_views[256];
 
 Scalars ReduceWorkgroup(uint tid, Scalars mine) {
   s_sum[tid] = mine.sum_squares;
   s_dof[tid] = mine.dof;
   s_counts[tid] = uvec4(mine.seen_multi, mine.seen_once, mine.seen_none, mine.interior);
+  s_views[tid] = uvec2(mine.views, mine.outlier_views);
   barrier();
   for (uint stride = 128u; stride > 0u; stride >>= 1u) {
     if (tid < stride) {
       s_sum[tid] += s_sum[tid + stride];
       s_dof[tid] += s_dof[tid + stride];
       s_counts[tid] += s_counts[tid + stride];
+      s_views[tid] += s_views[tid + stride];
     }
     barrier();
   }
@@ -26,7 +29,7 @@ Scalars ReduceWorkgroup(uint tid, Scalars mine) {
   total.seen_once = s_counts[0].y;
   total.seen_none = s_counts[0].z;
   total.interior = s_counts[0].w;
-  total.pad0 = 0u;
-  total.pad1 = 0u;
+  total.views = s_views[0].x;
+  total.outlier_views = s_views[0].y;
   return total;
 }

@@ -9,8 +9,8 @@ struct Scalars {
   uint seen_once;
   uint seen_none;
   uint interior;
-  uint pad0;
-  uint pad1;
+  uint views;          // view samples of the texels seen by ≥ 2 views
+  uint outlier_views;  // of those, the ones the robust composite treated as outliers
 };
 
 Scalars AddScalars(Scalars a, Scalars b) {
@@ -20,6 +20,8 @@ Scalars AddScalars(Scalars a, Scalars b) {
   a.seen_once += b.seen_once;
   a.seen_none += b.seen_none;
   a.interior += b.interior;
+  a.views += b.views;
+  a.outlier_views += b.outlier_views;
   return a;
 }
 #endif

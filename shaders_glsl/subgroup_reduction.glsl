@@ -8,5 +8,6 @@
 
 Scalars ReduceSubgroup(Scalars mine) {
   return Scalars(subgroupAdd(mine.sum_squares), subgroupAdd(mine.dof), subgroupAdd(mine.seen_multi),
-                 subgroupAdd(mine.seen_once), subgroupAdd(mine.seen_none), subgroupAdd(mine.interior), 0u, 0u);
+                 subgroupAdd(mine.seen_once), subgroupAdd(mine.seen_none), subgroupAdd(mine.interior), subgroupAdd(mine.views),
+                 subgroupAdd(mine.outlier_views));
 }

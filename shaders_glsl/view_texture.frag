@@ -1,8 +1,10 @@
 #version 460
-// View-specific texture pass, fragment stage: the colour camera i saw at this texel and its
-// weight (§6.3), or weight 0 where the camera cannot see it: behind the near plane, outside
-// the image, back-facing, or occluded according to the depth pass.
+// View-specific texture pass, fragment stage: the colour camera i saw at this texel, its
+// weight (§6.3) and the image's texture there, or weight 0 where the camera cannot see it:
+// behind the near plane, outside the image, back-facing, or occluded according to the
+// depth pass.
 #extension GL_GOOGLE_include_directive : require
+#include "view_texel.glsl"
 #include "view_texture_push.glsl"
 
 layout(set = 0, binding = 1) uniform sampler2D reference;  // mip chain = image pyramid, trilinear
@@ -11,10 +13,10 @@ layout(set = 0, binding = 2) uniform sampler2D depth_map;  // nearest filter, re
 layout(location = 0) in vec4 clip;
 layout(location = 1) in vec3 world;
 layout(location = 2) in vec3 normal;
-layout(location = 0) out vec4 view;  // rgb: colour seen, a: weight
+layout(location = 0) out uvec2 view;  // view_texel.glsl
 
 void main() {
-  view = vec4(0.0);
+  view = uvec2(0u);
   const float z = clip.w;  // camera-space depth
   const float near = pc.params.w;
   if (z <= near) return;
@@ -45,9 +47,8 @@ void main() {
     // pixel: a texel smaller than a pixel repeats its neighbours' evidence.
     weight = cos_theta * min(1.0, footprint);
   }
-  // Alpha of the reference holds |∇I| (Pyramid.h StoreGradientInAlpha): a view whose
-  // image is steep here is less precise by 1 + (δ|∇I|/σ)² (Evaluation.h).
+  // Alpha of the reference holds |∇I| (Pyramid.h StoreGradientInAlpha): the composite's
+  // noise model for this view grows with it (Evaluation.h).
   const vec4 sampled = textureLod(reference, uv, lod);
-  const float blur = pc.position_sd_over_sigma * sampled.a;
-  view = vec4(sampled.rgb, weight / (1.0 + blur * blur));
+  view = PackViewTexel(sampled.rgb, weight, sampled.a);
 }

@@ -5,5 +5,4 @@ layout(push_constant) uniform Push {
   vec4 params;            // fx·fy at full resolution (x), relative depth tolerance (y), weights: 0 uniform 1 angle (z), near (w)
   uint node_offset;
   float level;            // pyramid level: the least LOD the reference is sampled at
-  float position_sd_over_sigma;  // δ/σ of the noise model (pipelines/Evaluation.h)
 } pc;

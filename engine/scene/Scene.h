@@ -113,6 +113,9 @@ struct LikelihoodSettings {
   std::string weights = "angle"; // "uniform" | "angle"
   int atlas = 1024;              // atlas side in texels
   int levels = 3;                // pyramid levels
+  // Per-camera colour correction of the surface likelihood: "none", "gain" or "affine"
+  // (pipelines/Photometric.h).
+  std::string photometric = "affine";
 };
 
 struct SamplerSettings {

@@ -65,7 +65,7 @@ Parameter ReadParameter(const Reader& r, const std::string& name, const Json& j)
 
 void ReadLikelihood(const Reader& r, const Json& j, LikelihoodSettings& s) {
   const std::string path = "likelihood";
-  r.CheckObject(j, path, {"kind", "sigma", "weights", "atlas", "levels"});
+  r.CheckObject(j, path, {"kind", "sigma", "weights", "atlas", "levels", "photometric"});
   if (auto it = j.find("kind"); it != j.end()) {
     s.kind = r.String(*it, "likelihood.kind");
     if (s.kind != "surface" && s.kind != "image")
@@ -91,6 +91,11 @@ void ReadLikelihood(const Reader& r, const Json& j, LikelihoodSettings& s) {
   }
   if (auto it = j.find("levels"); it != j.end())
     s.levels = int(r.Integer(*it, "likelihood.levels", 1, 8));
+  if (auto it = j.find("photometric"); it != j.end()) {
+    s.photometric = r.String(*it, "likelihood.photometric");
+    if (s.photometric != "none" && s.photometric != "gain" && s.photometric != "affine")
+      r.Fail("likelihood.photometric", "unknown photometric model '" + s.photometric + "' (none, gain, affine)");
+  }
 }
 
 void ReadSampler(const Reader& r, const Json& j, SamplerSettings& s) {

@@ -30,6 +30,7 @@ uint32_t BytesPerTexel(VkFormat format) {
       return 4;
     case VK_FORMAT_R16G16B16A16_SFLOAT:
     case VK_FORMAT_R32G32_SFLOAT:
+    case VK_FORMAT_R32G32_UINT:
       return 8;
     case VK_FORMAT_R32G32B32A32_SFLOAT:
       return 16;

@@ -135,11 +135,59 @@ uint32_t SurfaceTexelCount(const SceneGeometry& geometry, int level) {
   return n;
 }
 
+TexelStatistic ReferenceTexelStatistic(const std::vector<ViewSample>& views, const LikelihoodModel& model,
+                                       const PhotometricCorrection& photometric) {
+  const double sigma = model.sigma / 255.0, K = model.outlier_chi2;
+  const size_t n = views.size();
+  std::vector<Eigen::Vector3d> c(n);
+  std::vector<double> w(n), v(n), omega(n, 1.0), e2(n);
+  for (size_t i = 0; i < n; ++i) {
+    const auto& gain = photometric.gain[size_t(views[i].camera)];
+    const auto& offset = photometric.offset[size_t(views[i].camera)];
+    for (int k = 0; k < 3; ++k) c[i][k] = gain[size_t(k)] * views[i].colour[k] + offset[size_t(k)];
+    const double g = (gain[0] + gain[1] + gain[2]) / 3.0 * views[i].texture;
+    w[i] = views[i].weight;
+    v[i] = sigma * sigma + model.position_sd * model.position_sd * g * g;
+  }
+  TexelStatistic s;
+  // Consensus: precision-weighted mean reweighted by Welsch weights relative to the closest
+  // view, three times (composite.comp's kRounds).
+  for (int round = 0; round <= 3; ++round) {
+    double sp = 0.0;
+    Eigen::Vector3d spc = Eigen::Vector3d::Zero();
+    for (size_t i = 0; i < n; ++i) {
+      const double p = omega[i] * w[i] / v[i];
+      sp += p;
+      spc += p * c[i];
+    }
+    s.mean = spc / sp;
+    double closest = INFINITY;
+    for (size_t i = 0; i < n; ++i) closest = std::min(closest, e2[i] = (c[i] - s.mean).squaredNorm() / v[i]);
+    if (round < 3)
+      for (size_t i = 0; i < n; ++i) omega[i] = std::exp(-(e2[i] - closest) / K);
+  }
+  // Loss and its expectation: view i's residual from the plain precision-weighted mean has
+  // variance a_i·v_i per channel under the noise model.
+  double sp = 0.0, spw = 0.0;
+  for (size_t i = 0; i < n; ++i) sp += w[i] / v[i], spw += w[i] * w[i] / v[i];
+  for (size_t i = 0; i < n; ++i) {
+    const double p = w[i] / v[i];
+    const double a = std::max(1.0 - 2.0 * p / sp + spw / (v[i] * sp * sp), 0.0);
+    s.chi2 += w[i] * K * (1.0 - std::exp(-e2[i] / K));
+    s.expected += w[i] * K * (1.0 - std::pow(1.0 + 2.0 * a / K, -1.5));
+    s.outliers += e2[i] > K;
+  }
+  return s;
+}
+
 ReducedScalars ReferenceSurfaceScalars(const Scene& scene, const SceneGeometry& geometry,
                                        const std::vector<std::vector<Image>>& pyramids,
                                        const std::vector<double>& psi, int level,
                                        const SurfaceLikelihoodOptions& options,
-                                       ReferenceTexels* texels, ColourSampling sampling) {
+                                       ReferenceTexels* texels, ColourSampling sampling,
+                                       const PhotometricCorrection* photometric) {
+  const PhotometricCorrection identity = PhotometricCorrection::Identity(int(scene.cameras.size()));
+  if (!photometric) photometric = &identity;
   const int side = geometry.atlas.size >> level;
   if (side <= 0) throw std::invalid_argument("ReferenceSurfaceScalars: level too coarse for the atlas");
   const std::vector<Eigen::Matrix4d> world_from_node = scene.WorldFromNode(psi);
@@ -195,13 +243,13 @@ ReducedScalars ReferenceSurfaceScalars(const Scene& scene, const SceneGeometry& 
     texels->views.assign(size_t(side) * side, 0);
     texels->deviation.assign(size_t(side) * side, 0.0);
     texels->dof.assign(size_t(side) * side, 0.0);
+    texels->outliers.assign(size_t(side) * side, 0);
     texels->view_textures.assign(cameras.size(), Image(side, side, 0.0f));
   }
 
   ReducedScalars out;
   const std::vector<TexelHit> hits = LocateTexels(geometry, side);
-  std::vector<double> weight(cameras.size());
-  std::vector<Eigen::Vector3d> colour(cameras.size());
+  std::vector<ViewSample> samples(cameras.size());
   for (size_t index = 0; index < hits.size(); ++index) {
     const TexelHit& hit = hits[index];
     if (hit.triangle < 0) continue;
@@ -269,9 +317,6 @@ ReducedScalars ReferenceSurfaceScalars(const Scene& scene, const SceneGeometry& 
       }
       double w = 1.0;
       if (options.weights == ViewWeights::Angle) w = cos_theta * std::min(1.0, footprint);
-      // Noise model: alpha holds |∇I| (StoreGradientInAlpha); precision falls by 1 + (δ|∇I|/σ)².
-      const double blur = options.position_sd / (options.model.sigma / 255.0) * rgba[3];
-      w /= 1.0 + blur * blur;
       if (texels) {
         float* out = texels->view_textures[c].At(int(index % side), int(index / side));
         out[0] = rgba[0];
@@ -279,8 +324,8 @@ ReducedScalars ReferenceSurfaceScalars(const Scene& scene, const SceneGeometry& 
         out[2] = rgba[2];
         out[3] = float(w);
       }
-      weight[seen] = w;
-      colour[seen] = Eigen::Vector3d(rgba[0], rgba[1], rgba[2]);
+      // Alpha holds |∇I| (StoreGradientInAlpha), the noise model's texture.
+      samples[size_t(seen)] = {Eigen::Vector3d(rgba[0], rgba[1], rgba[2]), w, double(rgba[3]), int(c)};
       ++seen;
     }
 
@@ -294,21 +339,13 @@ ReducedScalars ReferenceSurfaceScalars(const Scene& scene, const SceneGeometry& 
       ++out.seen_once;
     } else {
       ++out.seen_multi;
-      double sum_w = 0.0, sum_w2 = 0.0;
-      Eigen::Vector3d mean = Eigen::Vector3d::Zero();
-      for (int k = 0; k < seen; ++k) {
-        sum_w += weight[k];
-        sum_w2 += weight[k] * weight[k];
-        mean += weight[k] * colour[k];
-      }
-      mean /= sum_w;
-      double spread = 0.0;
-      for (int k = 0; k < seen; ++k) spread += weight[k] * (colour[k] - mean).squaredNorm();
-      const double s_t = spread;  // Σ w‖c − μ‖²: weights are relative precisions (Evaluation.h)
-      const double d_t = 3.0 * (sum_w - sum_w2 / sum_w);  // effective dof (Evaluation.h)
-      out.sum_squares += std::min(s_t / sigma2, options.model.robust_cap * d_t) * sigma2;
-      out.dof += d_t;
-      if (texels) texels->deviation[index] = s_t, texels->dof[index] = d_t;
+      const TexelStatistic s = ReferenceTexelStatistic(
+          std::vector<ViewSample>(samples.begin(), samples.begin() + seen), options.model, *photometric);
+      out.sum_squares += s.chi2 * sigma2;
+      out.dof += s.expected;
+      out.views += uint32_t(seen);
+      out.outlier_views += uint32_t(s.outliers);
+      if (texels) texels->deviation[index] = s.chi2, texels->dof[index] = s.expected, texels->outliers[index] = uint8_t(s.outliers);
     }
   }
   return out;

@@ -34,12 +34,31 @@ struct ReferenceTexels {
   std::vector<TexelState> state;
   std::vector<int> chart;           // the atlas chart (GpuVertex::face) of on-surface texels, else -1
   std::vector<uint8_t> views;       // n_t: cameras that see the texel (exterior texels)
-  std::vector<double> deviation;    // s_t (colours on [0,1]); 0 unless n_t ≥ 2
-  std::vector<double> dof;          // d_t, effective degrees of freedom; 0 unless n_t ≥ 2
-  // Per camera c, per texel: rgb = colour seen, a = weight w_i; all 0 where c does not see
-  // the texel (the GPU's view-specific textures, SurfaceDump::view_textures).
+  std::vector<double> deviation;    // χ_t, the robust loss (Evaluation.h); 0 unless n_t ≥ 2
+  std::vector<double> dof;          // d_t, its expectation under the noise model; 0 unless n_t ≥ 2
+  std::vector<uint8_t> outliers;    // views with e² > K
+  // Per camera c, per texel: rgb = colour seen (as stored), a = weight w_i; all 0 where c
+  // does not see the texel (the GPU's view-specific textures, SurfaceDump::view_textures).
   std::vector<Image> view_textures;
 };
+
+// One camera's sample of a texel, as the composite gets it.
+struct ViewSample {
+  Eigen::Vector3d colour;  // as stored, [0,1]
+  double weight = 0.0;     // w_i > 0
+  double texture = 0.0;    // |∇I| where it was sampled
+  int camera = 0;          // for the photometric correction
+};
+
+// The composite's statistic of one texel seen by ≥ 2 views (Evaluation.h), in double
+// precision: consensus, robust loss χ_t, its expectation d_t, outlier views.
+struct TexelStatistic {
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  double chi2 = 0.0, expected = 0.0;
+  int outliers = 0;
+};
+TexelStatistic ReferenceTexelStatistic(const std::vector<ViewSample>& views, const LikelihoodModel& model,
+                                       const PhotometricCorrection& photometric);
 
 // How the colour a camera sees at a texel is read from its pyramid.
 enum class ColourSampling {
@@ -63,12 +82,14 @@ std::vector<std::vector<Image>> LoadReferencePyramids(const Scene& scene, int le
 // `geometry` is BuildSceneGeometry(scene, scene.InitialValues(), atlas) (the
 // atlas layout is shared with the GPU path); only options.model and options.weights are read,
 // the atlas side comes from geometry.atlas.size. `texels`, when given, receives per-texel data.
+// `photometric`: the per-camera colour correction (null: the identity).
 ReducedScalars ReferenceSurfaceScalars(const Scene& scene, const SceneGeometry& geometry,
                                        const std::vector<std::vector<Image>>& pyramids,
                                        const std::vector<double>& psi, int level,
                                        const SurfaceLikelihoodOptions& options,
                                        ReferenceTexels* texels = nullptr,
-                                       ColourSampling sampling = ColourSampling::LevelBilinear);
+                                       ColourSampling sampling = ColourSampling::LevelBilinear,
+                                       const PhotometricCorrection* photometric = nullptr);
 
 // ---- Test scenes shared by the reference's own tests and the GPU comparison ----
 

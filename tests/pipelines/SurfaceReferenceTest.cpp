@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdio>
 #include <map>
+#include <random>
 
 #include "engine/image/Pyramid.h"
 #include "tests/common/GpuTest.h"
@@ -237,7 +238,7 @@ TEST_F(SurfaceReferenceSynth, TruthIsPhotoConsistentAndAShiftedBoxIsNot) {
   const SynthBoxScene& box = Box();
   SurfaceLikelihoodOptions options;
   options.model.sigma = 2.0;
-  options.model.robust_cap = 1e9;  // see the raw deviations
+  options.model.outlier_chi2 = 1e9;  // see the raw deviations
   const std::vector<double> shifted = With(box.scene, box.truth, "x", box.truth[0] + 0.2);
   for (ViewWeights weights : {ViewWeights::Uniform, ViewWeights::Angle})
     for (int level : {0, 1}) {
@@ -262,7 +263,7 @@ TEST_F(SurfaceReferenceSynth, ScalarsAreTheSumsOfThePerTexelData) {
   const SynthBoxScene& box = Box();
   SurfaceLikelihoodOptions options;
   options.model.sigma = 2.0;
-  options.model.robust_cap = 4.0;
+  options.model.outlier_chi2 = 12.0;
   const double s2 = std::pow(2.0 / 255.0, 2.0);
   ReferenceTexels texels;
   const ReducedScalars r = ReferenceSurfaceScalars(box.scene, Geometry(), Pyramids(), box.truth, 0, options, &texels);
@@ -276,7 +277,9 @@ TEST_F(SurfaceReferenceSynth, ScalarsAreTheSumsOfThePerTexelData) {
     else {
       ++sum.seen_multi;
       sum.dof += texels.dof[i];
-      sum.sum_squares += std::min(texels.deviation[i] / s2, 4.0 * texels.dof[i]) * s2;
+      sum.sum_squares += texels.deviation[i] * s2;
+      sum.views += uint32_t(n);
+      sum.outlier_views += texels.outliers[i];
     }
   }
   EXPECT_EQ(r.seen_multi, sum.seen_multi);
@@ -285,14 +288,79 @@ TEST_F(SurfaceReferenceSynth, ScalarsAreTheSumsOfThePerTexelData) {
   EXPECT_EQ(r.interior, sum.interior);
   EXPECT_NEAR(r.dof, sum.dof, 1e-9 * sum.dof);
   EXPECT_NEAR(r.sum_squares, sum.sum_squares, 1e-12 * sum.sum_squares);
-  // The cap binds somewhere (anti-aliased silhouettes), but not on most texels.
-  const ReducedScalars uncapped = [&] {
+  EXPECT_EQ(r.views, sum.views);
+  EXPECT_EQ(r.outlier_views, sum.outlier_views);
+  // The robust loss saturates somewhere (anti-aliased silhouettes), but on few views.
+  const ReducedScalars quadratic = [&] {
     SurfaceLikelihoodOptions o = options;
-    o.model.robust_cap = 1e9;
+    o.model.outlier_chi2 = 1e9;
     return ReferenceSurfaceScalars(box.scene, Geometry(), Pyramids(), box.truth, 0, o);
   }();
-  EXPECT_LE(r.sum_squares, uncapped.sum_squares);
-  EXPECT_EQ(r.dof, uncapped.dof);
+  EXPECT_LT(r.sum_squares, quadratic.sum_squares);
+  EXPECT_GT(r.outlier_views, 0u);
+  EXPECT_LT(r.outlier_views, r.views / 20);
+}
+
+// The statistic of one texel, against what the model promises (Evaluation.h).
+TEST(ReferenceTexelStatistic, ItsExpectationIsWhatNoiseAloneGives) {
+  // Monte Carlo over texels whose views differ only by noise of the model's variance: the
+  // mean loss equals the mean expectation, for unequal weights and textures too.
+  LikelihoodModel model;
+  model.sigma = 6.0;
+  model.position_sd = 0.8;
+  const PhotometricCorrection identity = PhotometricCorrection::Identity(5);
+  std::mt19937_64 rng(11);
+  std::normal_distribution<double> unit(0.0, 1.0);
+  for (const int n : {2, 3, 5}) {
+    double chi2 = 0.0, expected = 0.0;
+    const int trials = 20000;
+    for (int t = 0; t < trials; ++t) {
+      std::vector<ViewSample> views;
+      for (int i = 0; i < n; ++i) {
+        ViewSample v;
+        v.camera = i;
+        v.weight = 0.3 + 0.7 * (i + 1) / n;
+        v.texture = 0.04 * i;  // up to 4 %/pixel: the texture term matters
+        const double sd = std::sqrt(std::pow(model.sigma / 255.0, 2) + std::pow(model.position_sd * v.texture, 2));
+        for (int k = 0; k < 3; ++k) v.colour[k] = 0.5 + sd * unit(rng);
+        views.push_back(v);
+      }
+      const TexelStatistic s = ReferenceTexelStatistic(views, model, identity);
+      chi2 += s.chi2 / trials;
+      expected += s.expected / trials;
+    }
+    std::printf("  %d views: mean loss / mean expectation %.4f\n", n, chi2 / expected);
+    EXPECT_NEAR(chi2 / expected, 1.0, 0.02) << n << " views";
+  }
+}
+
+TEST(ReferenceTexelStatistic, AnOutlierViewStopsPullingTheConsensusAndItsLossSaturates) {
+  LikelihoodModel model;
+  model.sigma = 4.0;
+  const PhotometricCorrection identity = PhotometricCorrection::Identity(4);
+  std::vector<ViewSample> views;
+  for (int i = 0; i < 4; ++i) views.push_back({Eigen::Vector3d(0.40, 0.50, 0.60), 1.0, 0.0, i});
+  views[3].colour = Eigen::Vector3d(0.9, 0.1, 0.2);  // something the scene lacks, in one photo
+  const TexelStatistic s = ReferenceTexelStatistic(views, model, identity);
+  EXPECT_NEAR(s.mean[0], 0.40, 1e-3) << "the three agreeing views decide the consensus";
+  EXPECT_EQ(s.outliers, 1);
+  EXPECT_NEAR(s.chi2, model.outlier_chi2, 0.01 * model.outlier_chi2) << "one saturated view, three exact ones";
+  // A plain mean would have moved an eighth of the way, and a quadratic loss would be huge.
+  LikelihoodModel quadratic = model;
+  quadratic.outlier_chi2 = 1e12;
+  EXPECT_GT(ReferenceTexelStatistic(views, quadratic, identity).chi2, 1000.0);
+}
+
+TEST(ReferenceTexelStatistic, ThePhotometricCorrectionMakesDifferentExposuresAgree) {
+  LikelihoodModel model;
+  model.sigma = 2.0;
+  PhotometricCorrection correction = PhotometricCorrection::Identity(2);
+  const Eigen::Vector3d albedo(0.3, 0.4, 0.5);
+  std::vector<ViewSample> views = {{albedo, 1.0, 0.0, 0}, {1.3 * albedo + Eigen::Vector3d::Constant(0.05), 1.0, 0.0, 1}};
+  EXPECT_GT(ReferenceTexelStatistic(views, model, correction).chi2, 10.0);
+  correction.gain[1] = {1 / 1.3, 1 / 1.3, 1 / 1.3};
+  correction.offset[1] = {-0.05 / 1.3, -0.05 / 1.3, -0.05 / 1.3};
+  EXPECT_LT(ReferenceTexelStatistic(views, model, correction).chi2, 1e-9);
 }
 
 }  // namespace

@@ -1,0 +1,25 @@
+#pragma once
+// The host's side of shaders_glsl/view_texel.glsl: one view-specific texel packed into the
+// two 32-bit words of the R32G32_UINT view-texture array (dumps and tests unpack it).
+
+#include <cstdint>
+
+#include "pipelines/HalfFloat.h"
+
+namespace vkr {
+
+struct ViewTexel {
+  float colour[3] = {0, 0, 0};  // encoded, [0,1], 10 bits each
+  float weight = 0.0f;          // 0: the camera does not see the texel
+  float texture = 0.0f;         // |∇I| of the reference where it was sampled
+};
+
+inline ViewTexel UnpackViewTexel(uint32_t colour_word, uint32_t weight_word) {
+  ViewTexel t;
+  for (int c = 0; c < 3; ++c) t.colour[c] = float((colour_word >> (10 * c)) & 1023u) / 1023.0f;
+  t.weight = HalfToFloat(uint16_t(weight_word & 0xffffu));
+  t.texture = HalfToFloat(uint16_t(weight_word >> 16));
+  return t;
+}
+
+}  // namespace vkr
