@@ -1,6 +1,7 @@
 #include <iostream>
 
 #include "apps/Commands.h"
+#include "engine/scene/LensDistortion.h"
 #include "pipelines/ViewRendering.h"
 
 namespace vkr::app {
@@ -22,6 +23,14 @@ int RunSynth(int argc, char** argv) {
   app.add_option("--scale", options.scale,
                  "image size factor; K scales with it (default 1, tests use 0.25)");
   app.add_option("--atlas", options.atlas, "side of the albedo atlas in texels (default 2048)");
+  std::string distortion;
+  app.add_option("--distortion", distortion,
+                 "give every camera this lens, MODEL[:NAME=VALUE,...] with COLMAP's model and coefficient "
+                 "names, e.g. OPENCV:k1=-0.12,k2=0.03 (coefficients not named are 0); written to cameras.json");
+  app.add_option("--mask-nodes", options.mask_nodes,
+                 "NAME[,NAME...]: also write masks/<image name>.png beside the output folder, 0 where these "
+                 "nodes are the visible surface, 255 elsewhere");
+  app.add_flag("--colmap", options.colmap, "also write the cameras as a COLMAP text model in OUTPUT/sparse/");
   bool quiet = false;
   app.add_flag("-q,--quiet", quiet, "print nothing but errors");
   if (auto status = Parse(app, argc, argv)) return *status;
@@ -30,11 +39,16 @@ int RunSynth(int argc, char** argv) {
   options.overrides = ParseOverrides(scene.sets);
   options.at_file = at;
   options.output_dir = out;
+  if (!distortion.empty()) options.distortion = ParseDistortionSpec(distortion, "--distortion");
   auto device = OpenDevice(scene.device);
   const SynthSummary summary = SynthesiseImages(options, *device);
   if (!quiet)
     std::cerr << "vkrecon synth: wrote " << summary.images.size() << " images and "
-              << summary.cameras_file.string() << " (" << device->name() << ")\n";
+              << summary.cameras_file.string()
+              << (summary.masks.empty() ? "" : ", " + std::to_string(summary.masks.size()) + " masks in " +
+                                                   summary.masks.front().parent_path().string())
+              << (summary.colmap_dir.empty() ? "" : ", a COLMAP model in " + summary.colmap_dir.string()) << " ("
+              << device->name() << ")\n";
   return FinishWithDevice(*device, 0);
 }
 

@@ -8,9 +8,12 @@
 #include "engine/common/InputError.h"
 #include "engine/image/Image.h"
 #include "engine/scene/CameraWriter.h"
+#include "engine/scene/Colmap.h"
 #include "engine/vk/Commands.h"
 #include "pipelines/Environment.h"
 #include "pipelines/GpuScene.h"
+#include "pipelines/LensWarp.h"
+#include "pipelines/NodeMask.h"
 #include "pipelines/NovelViewPass.h"
 
 namespace fs = std::filesystem;
@@ -52,6 +55,30 @@ fs::path SynthImageName(const Camera& camera) {
   return name;
 }
 
+// The mask of `nodes` in `camera`'s image, written where LoadScene finds it for a scene
+// whose `images` is `images_dir`: masks/<image name>.png beside that folder.
+fs::path WriteNodeMask(SceneDrawer& drawer, const Camera& camera, const std::vector<Eigen::Matrix4d>& world_from_node,
+                       const std::vector<int>& nodes, const fs::path& images_dir) {
+  const Image mask = RenderThroughLens(
+      camera,
+      [&](const Camera& pinhole) {
+        return VisibleNodeMask(
+            [&](const std::vector<Eigen::Matrix4d>& world) {
+              drawer.gpu_scene.SetNodeMatrices(0, world);
+              return drawer.pass.Render(drawer.transfer, drawer.context, pinhole, 0,
+                                        NovelViewPass::Output::WorldPosition);
+            },
+            world_from_node, nodes);
+      },
+      LensResampling::Conservative);
+  drawer.gpu_scene.SetNodeMatrices(0, world_from_node);
+  fs::path folder = fs::absolute(images_dir).lexically_normal();
+  if (!folder.has_filename()) folder = folder.parent_path();  // "images/" names the folder itself
+  const fs::path file = folder.parent_path() / "masks" / (camera.image.filename().string() + ".png");
+  WriteMaskPng(file, mask);
+  return file;
+}
+
 }  // namespace
 
 Camera ScaleCamera(const Camera& camera, double scale) {
@@ -77,7 +104,9 @@ SynthSummary SynthesiseImages(const SynthOptions& options, vk::Device& device) {
   const SceneGeometry geometry = BuildSceneGeometry(scene, scene.InitialValues(), options.atlas);
   const Image atlas = BakeAlbedoAtlas(geometry.atlas, geometry.meshes, LoadAlbedos(scene));
   SceneDrawer drawer(device, geometry, atlas);
-  drawer.gpu_scene.SetNodeMatrices(0, scene.WorldFromNode(psi));
+  const std::vector<Eigen::Matrix4d> world_from_node = scene.WorldFromNode(psi);
+  drawer.gpu_scene.SetNodeMatrices(0, world_from_node);
+  const std::vector<int> masked_nodes = NodeIndices(scene, options.mask_nodes, "--mask-nodes");
 
   fs::create_directories(options.output_dir);
   std::mt19937_64 rng(options.seed);
@@ -86,15 +115,21 @@ SynthSummary SynthesiseImages(const SynthOptions& options, vk::Device& device) {
   std::vector<Camera> written;
   for (const Camera& scene_camera : scene.Cameras(psi)) {
     Camera camera = ScaleCamera(scene_camera, options.scale);
-    Image image = drawer.pass.Render(drawer.transfer, drawer.context, camera);
-    const Eigen::Matrix3d ray_from_pixel = camera.R().transpose() * camera.K.inverse();
+    if (options.distortion) camera.distortion = *options.distortion;
+    // Through a lens: a pinhole view covering the distorted frame, resampled (LensWarp.h).
+    Image image = RenderThroughLens(camera, [&](const Camera& pinhole) {
+      Image view = drawer.pass.Render(drawer.transfer, drawer.context, pinhole);
+      const Eigen::Matrix3d ray_from_pixel = pinhole.R().transpose() * pinhole.K.inverse();
+      for (size_t i = 0; i < view.rgba.size(); i += 4)
+        if (view.rgba[i + 3] == 0.0f) {  // no surface: the distant environment shows through
+          const size_t pixel = i / 4;
+          const Eigen::Vector3d uv1(double(pixel % view.width) + 0.5, double(pixel / view.width) + 0.5, 1.0);
+          const Eigen::Vector3f env = EnvironmentColour(ray_from_pixel * uv1);
+          for (int c = 0; c < 3; ++c) view.rgba[i + c] = env[c];
+        }
+      return view;
+    });
     for (size_t i = 0; i < image.rgba.size(); i += 4) {
-      if (image.rgba[i + 3] == 0.0f) {  // no surface: the distant environment shows through
-        const size_t pixel = i / 4;
-        const Eigen::Vector3d uv1(double(pixel % image.width) + 0.5, double(pixel / image.width) + 0.5, 1.0);
-        const Eigen::Vector3f env = EnvironmentColour(ray_from_pixel * uv1);
-        for (int c = 0; c < 3; ++c) image.rgba[i + c] = env[c];
-      }
       for (int c = 0; c < 3; ++c) {
         double v = image.rgba[i + c];
         if (options.noise_sigma > 0.0) v += noise(rng);
@@ -105,10 +140,16 @@ SynthSummary SynthesiseImages(const SynthOptions& options, vk::Device& device) {
     camera.image = options.output_dir / SynthImageName(camera);
     WritePng(camera.image, image);
     summary.images.push_back(camera.image);
+    if (!masked_nodes.empty())
+      summary.masks.push_back(WriteNodeMask(drawer, camera, world_from_node, masked_nodes, options.output_dir));
     written.push_back(camera);
   }
   summary.cameras_file = options.output_dir / "cameras.json";
   WriteCamerasJson(summary.cameras_file, written);
+  if (options.colmap) {
+    summary.colmap_dir = options.output_dir / "sparse";
+    WriteColmapText(summary.colmap_dir, written, options.output_dir);
+  }
   return summary;
 }
 
@@ -167,7 +208,9 @@ std::vector<Image> RenderWithAtlas(vk::Device& device, const Scene& scene, const
   SceneDrawer drawer(device, geometry, atlas);
   drawer.gpu_scene.SetNodeMatrices(0, scene.WorldFromNode(psi));
   std::vector<Image> out;
-  for (const Camera& camera : cameras) out.push_back(drawer.pass.Render(drawer.transfer, drawer.context, camera));
+  for (const Camera& camera : cameras)
+    out.push_back(RenderThroughLens(
+        camera, [&](const Camera& pinhole) { return drawer.pass.Render(drawer.transfer, drawer.context, pinhole); }));
   return out;
 }
 
@@ -220,7 +263,8 @@ std::vector<fs::path> RenderViews(const RenderOptions& options, vk::Device& devi
   if (!folder.empty()) fs::create_directories(folder);
   std::vector<fs::path> written;
   for (const Camera& camera : views) {
-    const Image image = drawer.pass.Render(drawer.transfer, drawer.context, camera);
+    const Image image = RenderThroughLens(
+        camera, [&](const Camera& pinhole) { return drawer.pass.Render(drawer.transfer, drawer.context, pinhole); });
     const fs::path file = single_file ? options.output : folder / (prefix + camera.name + ".exr");
     WriteExr(file, image);
     written.push_back(file);
