@@ -7,6 +7,7 @@
 
 #include <vector>
 
+#include "engine/image/Image.h"
 #include "engine/scene/Scene.h"
 #include "engine/vk/Commands.h"
 #include "engine/vk/Resources.h"
