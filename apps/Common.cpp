@@ -39,7 +39,8 @@ std::vector<SceneOverride> ParseOverrides(const std::vector<std::string>& sets) 
     // A path typed on the command line is relative to where the user is, not to the scene
     // file: make the scene's path fields absolute before the loader resolves them.
     const std::string& key = o.path;
-    const bool path_field = key == "images" || key == "cameras" || key.ends_with(".albedo") || key.ends_with(".mesh");
+    const bool path_field = key == "images" || key == "cameras" || key == "masks" || key == "cameras.colmap" ||
+                            key.ends_with(".albedo") || key.ends_with(".mesh");
     if (path_field && !o.value.empty() && o.value.front() != '{' && o.value.front() != '[' &&
         o.value.front() != '"' && std::filesystem::path(o.value).is_relative())
       o.value = std::filesystem::absolute(o.value).string();

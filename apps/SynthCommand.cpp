@@ -1,6 +1,7 @@
 #include <iostream>
 
 #include "apps/Commands.h"
+#include "engine/scene/LensDistortion.h"
 #include "pipelines/ViewRendering.h"
 
 namespace vkr::app {
@@ -40,6 +41,14 @@ int RunSynth(int argc, char** argv) {
                  "gamma e^±0.64s (0.35 is what auto-exposure does; default 0, identical cameras)");
   int supersample = 0;
   app.add_option("--supersample", supersample, "samples per pixel along each axis, 1-8 (anti-aliasing; default 1)");
+  std::string distortion;
+  app.add_option("--distortion", distortion,
+                 "give every camera this lens, MODEL[:NAME=VALUE,...] with COLMAP's model and coefficient "
+                 "names, e.g. OPENCV:k1=-0.12,k2=0.03 (coefficients not named are 0); written to cameras.json");
+  app.add_option("--mask-nodes", options.mask_nodes,
+                 "NAME[,NAME...]: also write masks/<image name>.png beside the output folder, 0 where these "
+                 "nodes are the visible surface, 255 elsewhere");
+  app.add_flag("--colmap", options.colmap, "also write the cameras as a COLMAP text model in OUTPUT/sparse/");
   bool quiet = false;
   app.add_flag("-q,--quiet", quiet, "print nothing but errors");
   if (auto status = Parse(app, argc, argv)) return *status;
@@ -57,11 +66,16 @@ int RunSynth(int argc, char** argv) {
   if (ambient >= 0.0) options.ambient = ambient;
   if (exposure >= 0.0) options.exposure = exposure;
   if (supersample > 0) options.supersample = supersample;
+  if (!distortion.empty()) options.distortion = ParseDistortionSpec(distortion, "--distortion");
   auto device = OpenDevice(scene.device);
   const SynthSummary summary = SynthesiseImages(options, *device);
   if (!quiet)
     std::cerr << "vkrecon synth: wrote " << summary.images.size() << " images and "
-              << summary.cameras_file.string() << " (" << device->name() << ")\n";
+              << summary.cameras_file.string()
+              << (summary.masks.empty() ? "" : ", " + std::to_string(summary.masks.size()) + " masks in " +
+                                                   summary.masks.front().parent_path().string())
+              << (summary.colmap_dir.empty() ? "" : ", a COLMAP model in " + summary.colmap_dir.string()) << " ("
+              << device->name() << ")\n";
   return FinishWithDevice(*device, 0);
 }
 

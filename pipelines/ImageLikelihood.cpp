@@ -89,6 +89,7 @@ struct ImageLikelihood::Impl {
   // One camera's images on the GPU.
   struct CameraImages {
     vk::GpuImage reference;           // RGBA8, encoded colour, mip m = pyramid level m, alpha = |∇I|
+    vk::GpuImage validity;            // R8, the reference's mips: 1 = comparable (or 1×1 white)
     std::vector<vk::GpuImage> depth;  // D32F, one per likelihood level
     std::vector<VkExtent2D> size;     // the image at each likelihood level
   };
@@ -224,9 +225,11 @@ ImageLikelihood::ImageLikelihood(vk::Device& device, const Scene& scene, const I
   const int levels = options.levels, n = int(scene.cameras.size());
   uint32_t max_width = 1, max_height = 1;
   for (int i = 0; i < n; ++i) {
-    const Image image = LoadCameraImage(scene, i, levels);
+    const CameraPhoto photo = LoadCameraPhoto(scene, i, levels);
+    const Image& image = photo.image;
     Impl::CameraImages images;
     images.reference = UploadReference(device, m.transfer, image);
+    images.validity = UploadValidity(device, m.transfer, photo);
     for (int l = 0; l < levels; ++l) {
       // Depth maps at each level's size (Pyramid.h): the warp pass renders t at this size
       // with t's depth map as its depth attachment, so pixel (i, j) is pyramid pixel (i, j).
@@ -261,7 +264,7 @@ ImageLikelihood::ImageLikelihood(vk::Device& device, const Scene& scene, const I
     const Impl::CameraImages& target = m.cameras[size_t(m.pairs[p].target)];
     for (int l = 0; l < levels; ++l) {
       m.warp_pass->BindImages(int(p) * levels + l, source.reference.view(), source.depth[size_t(l)].view(),
-                              target.reference.view());
+                              target.reference.view(), source.validity.view(), target.validity.view());
       pair_sizes[size_t(l)].push_back(target.size[size_t(l)]);
     }
   }

@@ -50,6 +50,8 @@ PairWarpPass::PairWarpPass(vk::Device& device, const GpuScene& scene, int camera
       {2, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr},
       {3, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr},
       {4, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr},
+      {5, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr},
+      {6, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr},
   };
   set_layout_ = CreateDescriptorSetLayout(device, layout_bindings);
   layout_ = CreatePipelineLayout(device, set_layout_, sizeof(WarpPush), kBoth);
@@ -80,11 +82,14 @@ PairWarpPass::PairWarpPass(vk::Device& device, const GpuScene& scene, int camera
 }
 
 void PairWarpPass::BindImages(int index, VkImageView source_reference, VkImageView source_depth,
-                              VkImageView target_reference) {
+                              VkImageView target_reference, VkImageView source_validity,
+                              VkImageView target_validity) {
   VkDescriptorSet set = sets_.at(size_t(index));
   WriteSampledImage(*device_, set, 2, source_reference, trilinear_, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
   WriteSampledImage(*device_, set, 3, source_depth, nearest_, VK_IMAGE_LAYOUT_DEPTH_READ_ONLY_OPTIMAL);
   WriteSampledImage(*device_, set, 4, target_reference, trilinear_, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
+  WriteSampledImage(*device_, set, 5, source_validity, trilinear_, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
+  WriteSampledImage(*device_, set, 6, target_validity, trilinear_, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
 }
 
 void PairWarpPass::SetCameras(int slot, const std::vector<Camera>& cameras) {

@@ -38,10 +38,13 @@ class PairWarpPass {
                int bindings, const NoiseModel& noise);
 
   // Binds set `index` (once, at creation of the likelihood): r_s and r_t (mip chains = the
-  // image pyramids) in SHADER_READ_ONLY_OPTIMAL, and s's depth map in DEPTH_READ_ONLY_OPTIMAL
-  // when recorded.
+  // image pyramids) in SHADER_READ_ONLY_OPTIMAL, s's depth map in DEPTH_READ_ONLY_OPTIMAL
+  // when recorded, and the validity of r_s and r_t (ReferenceImages.h: the same mips, 1 =
+  // comparable, or 1×1 white) in SHADER_READ_ONLY_OPTIMAL. A pixel of t that is invalid is
+  // not compared (as if t saw no surface there); a sample of r_s touching an invalid pixel
+  // counts as not seen by s.
   void BindImages(int index, VkImageView source_reference, VkImageView source_depth,
-                  VkImageView target_reference);
+                  VkImageView target_reference, VkImageView source_validity, VkImageView target_validity);
 
   // Writes one hypothesis's cameras into `slot` (host-visible memory, no submission).
   void SetCameras(int slot, const std::vector<Camera>& cameras);

@@ -1,19 +1,44 @@
 #pragma once
 // A camera's photograph as both likelihoods sample it: loaded and checked against its
-// camera, then uploaded as an RGBA8 mip chain (mip m = pyramid level m, Pyramid.h) whose
-// alpha holds |∇I| for the noise model (Evaluation.h).
+// camera, undistorted to the pinhole of its K when it has a lens (LensWarp.h), then uploaded
+// as an RGBA8 mip chain (mip m = pyramid level m, Pyramid.h) whose alpha holds |∇I| for the
+// noise model (Evaluation.h), next to an R8 mip chain of the same size saying which texels
+// may be compared (the camera's mask times the lens's valid frame).
 
+#include <vector>
+
+#include "engine/image/Image.h"
 #include "engine/scene/Scene.h"
 #include "engine/vk/Commands.h"
 #include "engine/vk/Resources.h"
 
 namespace vkr {
 
-// Loads camera `index`'s image. Throws InputError (scene file, cameras[i].image) when its size
-// differs from the camera's or it is too small for `levels` pyramid levels.
-Image LoadCameraImage(const Scene& scene, int index, int levels);
+struct CameraPhoto {
+  Image image;     // the photograph, undistorted when the camera has a lens
+  // 1 where a pixel may be compared, 0 where not (all four channels); empty when every pixel
+  // may (no mask and no lens), which costs nothing downstream.
+  Image validity;
+};
+
+// Loads camera `index`'s photograph (undistorted) and its validity. Throws InputError (scene
+// file, cameras[i].image / masks) when the image or mask size differs from the camera's, a
+// mask cannot be read, or the image is too small for `levels` pyramid levels.
+CameraPhoto LoadCameraPhoto(const Scene& scene, int index, int levels);
+
+// The pyramid of a validity image, binary at every level: level m is 1 where every base
+// pixel that BuildPyramid's level-m pixel averages is valid, and so are those of its four
+// neighbours (StoreGradientInAlpha's central differences read them). So a colour or
+// gradient sampled only from valid texels of this pyramid depends on valid pixels alone,
+// and a sample touching any invalid texel reads below 1: the likelihoods drop samples
+// reading below 0.999 (view_texture.frag, image_warp.glsl).
+std::vector<Image> BuildValidityPyramid(const Image& validity, int levels);
 
 // The prefiltered reference texture of `image`, in SHADER_READ_ONLY_OPTIMAL.
 vk::GpuImage UploadReference(vk::Device& device, vk::Transfer& transfer, const Image& image);
+
+// The validity texture matching UploadReference(photo.image) mip for mip (R8, 0 or 1), in
+// SHADER_READ_ONLY_OPTIMAL; a 1×1 white texture when photo.validity is empty.
+vk::GpuImage UploadValidity(vk::Device& device, vk::Transfer& transfer, const CameraPhoto& photo);
 
 }  // namespace vkr

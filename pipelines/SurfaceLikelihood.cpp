@@ -61,6 +61,7 @@ namespace surface_detail {
 // One camera's images on the GPU.
 struct CameraImages {
   vk::GpuImage reference;           // RGBA8, encoded colour, mip m = pyramid level m
+  vk::GpuImage validity;            // R8, the reference's mips: 1 = comparable (or 1×1 white)
   std::vector<vk::GpuImage> depth;  // D32F, one per likelihood level
 };
 
@@ -209,9 +210,11 @@ SurfaceLikelihood::SurfaceLikelihood(vk::Device& device, const Scene& scene,
   Impl& m = *impl_;
   const int levels = options.levels, n = int(scene.cameras.size());
   for (int i = 0; i < n; ++i) {
-    const Image image = LoadCameraImage(scene, i, levels);
+    const CameraPhoto photo = LoadCameraPhoto(scene, i, levels);
+    const Image& image = photo.image;
     surface_detail::CameraImages images;
     images.reference = UploadReference(device, m.transfer, image);
+    images.validity = UploadValidity(device, m.transfer, photo);
     for (int l = 0; l < levels; ++l) {
       // Shadow maps at each level's resolution (any size works: they are looked up in
       // normalised coordinates).
@@ -233,7 +236,8 @@ SurfaceLikelihood::SurfaceLikelihood(vk::Device& device, const Scene& scene,
                                                   options.weights == ViewWeights::Angle, options.depth_tolerance);
   for (int i = 0; i < n; ++i)
     for (int l = 0; l < levels; ++l)
-      m.view_pass->BindImages(i * levels + l, m.cameras[i].reference.view(), m.cameras[i].depth[l].view());
+      m.view_pass->BindImages(i * levels + l, m.cameras[i].reference.view(), m.cameras[i].depth[l].view(),
+                              m.cameras[i].validity.view());
   m.composite_pass = std::make_unique<CompositePass>(device, m.views, m.mask, options.max_batch);
   m.photometric = PhotometricCorrection::Identity(n);
   if (options.profile)

@@ -12,9 +12,12 @@
 #include "engine/image/Exposure.h"
 #include "engine/image/Image.h"
 #include "engine/scene/CameraWriter.h"
+#include "engine/scene/Colmap.h"
 #include "engine/vk/Commands.h"
 #include "pipelines/Environment.h"
 #include "pipelines/GpuScene.h"
+#include "pipelines/LensWarp.h"
+#include "pipelines/NodeMask.h"
 #include "pipelines/NovelViewPass.h"
 #include "pipelines/SunLight.h"
 
@@ -55,6 +58,30 @@ fs::path SynthImageName(const Camera& camera) {
   std::transform(ext.begin(), ext.end(), ext.begin(), ::tolower);
   if (ext != ".png") name.replace_extension(".png");  // synth writes lossless 8-bit images
   return name;
+}
+
+// The mask of `nodes` in `camera`'s image, written where LoadScene finds it for a scene
+// whose `images` is `images_dir`: masks/<image name>.png beside that folder.
+fs::path WriteNodeMask(SceneDrawer& drawer, const Camera& camera, const std::vector<Eigen::Matrix4d>& world_from_node,
+                       const std::vector<int>& nodes, const fs::path& images_dir) {
+  const Image mask = RenderThroughLens(
+      camera,
+      [&](const Camera& pinhole) {
+        return VisibleNodeMask(
+            [&](const std::vector<Eigen::Matrix4d>& world) {
+              drawer.gpu_scene.SetNodeMatrices(0, world);
+              return drawer.pass.Render(drawer.transfer, drawer.context, pinhole, 0,
+                                        NovelViewPass::Output::WorldPosition);
+            },
+            world_from_node, nodes);
+      },
+      LensResampling::Conservative);
+  drawer.gpu_scene.SetNodeMatrices(0, world_from_node);
+  fs::path folder = fs::absolute(images_dir).lexically_normal();
+  if (!folder.has_filename()) folder = folder.parent_path();  // "images/" names the folder itself
+  const fs::path file = folder.parent_path() / "masks" / (camera.image.filename().string() + ".png");
+  WriteMaskPng(file, mask);
+  return file;
 }
 
 }  // namespace
@@ -146,7 +173,9 @@ SynthSummary SynthesiseImages(const SynthOptions& options, vk::Device& device) {
   const SceneGeometry geometry = BuildSceneGeometry(scene, scene.InitialValues(), options.atlas);
   const Image atlas = BakeAlbedoAtlas(geometry.atlas, geometry.meshes, LoadAlbedos(scene));
   SceneDrawer drawer(device, geometry, atlas);
-  drawer.gpu_scene.SetNodeMatrices(0, scene.WorldFromNode(psi));
+  const std::vector<Eigen::Matrix4d> world_from_node = scene.WorldFromNode(psi);
+  drawer.gpu_scene.SetNodeMatrices(0, world_from_node);
+  const std::vector<int> masked_nodes = NodeIndices(scene, options.mask_nodes, "--mask-nodes");
   std::unique_ptr<SunShadow> shadow;
   if (settings.sun) {
     shadow = std::make_unique<SunShadow>(device, drawer.gpu_scene);
@@ -165,15 +194,20 @@ SynthSummary SynthesiseImages(const SynthOptions& options, vk::Device& device) {
   std::vector<Exposure> exposures;
   for (const Camera& scene_camera : scene.Cameras(psi)) {
     Camera camera = ScaleCamera(scene_camera, options.scale);
+    if (options.distortion) camera.distortion = *options.distortion;
+    // Through a lens: a pinhole view covering the distorted frame, resampled (LensWarp.h);
+    // each pinhole pixel the mean of n×n samples.
     const int n = settings.supersample;
-    Camera fine = camera;  // n×n samples per pixel of `camera`
-    fine.width *= n;
-    fine.height *= n;
-    fine.K.row(0) *= n;
-    fine.K.row(1) *= n;
-    Image image = drawer.pass.Render(drawer.transfer, drawer.context, fine, 0, output);
-    FillEnvironment(fine, image);
-    image = DownsampleLinear(image, n);
+    Image image = RenderThroughLens(camera, [&](const Camera& pinhole) {
+      Camera fine = pinhole;
+      fine.width *= n;
+      fine.height *= n;
+      fine.K.row(0) *= n;
+      fine.K.row(1) *= n;
+      Image view = drawer.pass.Render(drawer.transfer, drawer.context, fine, 0, output);
+      FillEnvironment(fine, view);
+      return DownsampleLinear(view, n);
+    });
     const Exposure exposure = settings.exposure > 0.0 ? RandomExposure(settings.exposure, exposure_rng) : Exposure{};
     for (size_t i = 0; i < image.rgba.size(); i += 4) {
       for (int c = 0; c < 3; ++c) {
@@ -186,6 +220,8 @@ SynthSummary SynthesiseImages(const SynthOptions& options, vk::Device& device) {
     camera.image = options.output_dir / SynthImageName(camera);
     WritePng(camera.image, image);
     summary.images.push_back(camera.image);
+    if (!masked_nodes.empty())
+      summary.masks.push_back(WriteNodeMask(drawer, camera, world_from_node, masked_nodes, options.output_dir));
     written.push_back(camera);
     exposures.push_back(exposure);
   }
@@ -195,6 +231,10 @@ SynthSummary SynthesiseImages(const SynthOptions& options, vk::Device& device) {
     summary.exposure_file = options.output_dir / "exposure.json";
     std::ofstream out(summary.exposure_file);
     out << ExposureJson(written, exposures).dump(2) << "\n";
+  }
+  if (options.colmap) {
+    summary.colmap_dir = options.output_dir / "sparse";
+    WriteColmapText(summary.colmap_dir, written, options.output_dir);
   }
   return summary;
 }
@@ -258,7 +298,9 @@ std::vector<Image> RenderWithAtlas(vk::Device& device, const Scene& scene, const
   SceneDrawer drawer(device, geometry, atlas);
   drawer.gpu_scene.SetNodeMatrices(0, scene.WorldFromNode(psi));
   std::vector<Image> out;
-  for (const Camera& camera : cameras) out.push_back(drawer.pass.Render(drawer.transfer, drawer.context, camera));
+  for (const Camera& camera : cameras)
+    out.push_back(RenderThroughLens(
+        camera, [&](const Camera& pinhole) { return drawer.pass.Render(drawer.transfer, drawer.context, pinhole); }));
   return out;
 }
 
@@ -311,7 +353,8 @@ std::vector<fs::path> RenderViews(const RenderOptions& options, vk::Device& devi
   if (!folder.empty()) fs::create_directories(folder);
   std::vector<fs::path> written;
   for (const Camera& camera : views) {
-    const Image image = drawer.pass.Render(drawer.transfer, drawer.context, camera);
+    const Image image = RenderThroughLens(
+        camera, [&](const Camera& pinhole) { return drawer.pass.Render(drawer.transfer, drawer.context, pinhole); });
     const fs::path file = single_file ? options.output : folder / (prefix + camera.name + ".exr");
     WriteExr(file, image);
     written.push_back(file);

@@ -29,12 +29,22 @@ struct SynthOptions {
   std::optional<double> sun_azimuth, sun_elevation, ambient;
   std::optional<double> exposure;            // spread of the cameras' exposures (Exposure.h)
   std::optional<int> supersample;            // samples per pixel along each axis
+  // A lens given to every camera (replacing its own), written to cameras.json; the images are
+  // rendered through it (LensWarp.h). Tests and studies make distorted photographs this way.
+  std::optional<LensDistortion> distortion;
+  // Nodes whose visible pixels are masked out: writes masks/<image name>.png beside the
+  // output folder (where LoadScene looks for a scene whose `images` is that folder).
+  std::vector<std::string> mask_nodes;
+  // Also write the cameras as a COLMAP text model in output_dir/sparse/.
+  bool colmap = false;
 };
 
 struct SynthSummary {
   std::vector<std::filesystem::path> images;
   std::filesystem::path cameras_file;
   std::filesystem::path exposure_file;  // exposure.json, when the exposures differ
+  std::vector<std::filesystem::path> masks;  // with mask_nodes
+  std::filesystem::path colmap_dir;          // with colmap
 };
 
 SynthSummary SynthesiseImages(const SynthOptions& options, vk::Device& device);
@@ -63,7 +73,8 @@ std::vector<Camera> OrbitCameras(const Scene& scene, const std::vector<double>& 
                                  const SceneGeometry& geometry, int n);
 
 // Renders `cameras` of the scene at Ψ, its surface textured with `atlas` (laid out as
-// `geometry.atlas`): the synthetic images of a reconstruction. Alpha 0 off the surface.
+// `geometry.atlas`): the synthetic images of a reconstruction, through each camera's lens
+// (LensWarp.h), so that they line up with its photograph. Alpha 0 off the surface.
 std::vector<Image> RenderWithAtlas(vk::Device& device, const Scene& scene, const std::vector<double>& psi,
                                    const SceneGeometry& geometry, const Image& atlas,
                                    const std::vector<Camera>& cameras);

@@ -34,6 +34,7 @@ ViewTexturePass::ViewTexturePass(vk::Device& device, const GpuScene& scene, int 
       {0, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_VERTEX_BIT, nullptr},
       {1, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr},
       {2, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr},
+      {3, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr},
   };
   set_layout_ = CreateDescriptorSetLayout(device, layout_bindings);
   layout_ = CreatePipelineLayout(device, set_layout_, sizeof(ViewTexturePush),
@@ -54,11 +55,13 @@ ViewTexturePass::ViewTexturePass(vk::Device& device, const GpuScene& scene, int 
   pipeline_ = CreateGraphicsPipeline(device, desc);
 }
 
-void ViewTexturePass::BindImages(int index, VkImageView reference, VkImageView depth) {
+void ViewTexturePass::BindImages(int index, VkImageView reference, VkImageView depth, VkImageView validity) {
   WriteSampledImage(*device_, sets_.at(index), 1, reference, trilinear_,
                     VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
   WriteSampledImage(*device_, sets_.at(index), 2, depth, nearest_,
                     VK_IMAGE_LAYOUT_DEPTH_READ_ONLY_OPTIMAL);
+  WriteSampledImage(*device_, sets_.at(index), 3, validity, trilinear_,
+                    VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
 }
 
 void ViewTexturePass::record(VkCommandBuffer cmd, const ViewCamera& camera, int binding, int slot,

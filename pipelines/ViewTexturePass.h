@@ -27,14 +27,16 @@ class ViewTexturePass {
  public:
   static constexpr VkFormat kFormat = VK_FORMAT_R32G32_UINT;  // view_texel.glsl, ViewTexel.h
 
-  // `bindings`: how many (reference image, depth map) pairs will be bound, one per camera
+  // `bindings`: how many (reference image, depth map, validity) sets will be bound, one per camera
   // and pyramid level. `angle_weights` false: every visible texel weighs 1.
   ViewTexturePass(vk::Device& device, const GpuScene& scene, int bindings, bool angle_weights,
                   double depth_tolerance);
 
   // Binds pair `index` (once, at creation of the likelihood): `reference` (a mip chain, the
-  // image pyramid) in SHADER_READ_ONLY_OPTIMAL, `depth` in DEPTH_READ_ONLY_OPTIMAL when recorded.
-  void BindImages(int index, VkImageView reference, VkImageView depth);
+  // image pyramid) in SHADER_READ_ONLY_OPTIMAL, `depth` in DEPTH_READ_ONLY_OPTIMAL when recorded,
+  // and `validity` (ReferenceImages.h: the same mips, 1 where comparable, or 1×1 white) in
+  // SHADER_READ_ONLY_OPTIMAL. A texel whose sample touches an invalid pixel gets weight 0.
+  void BindImages(int index, VkImageView reference, VkImageView depth, VkImageView validity);
 
   // Renders into `target` (one layer of the view-texture array, COLOR_ATTACHMENT_OPTIMAL)
   // over [0, atlas_size)². Texels outside every chart keep whatever they held (undefined)

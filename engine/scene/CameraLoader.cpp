@@ -1,15 +1,16 @@
 // The scene's `cameras`: a camera file, an inline list, or a COLMAP text model (DESIGN.md,
-// "cameras"). Camera files are written by other tools, so their unknown keys are ignored;
+// "cameras"). Camera files are written by other tools, so their unknown keys are ignored —
+// except `distortion`, which changes the geometry and is read or refused, never dropped;
 // inline cameras are part of the scene file, where unknown keys are errors.
 
 #include <Eigen/LU>
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 
 #include "engine/common/InputError.h"
 #include "engine/scene/Colmap.h"
 #include "engine/scene/Expression.h"
-#include "engine/common/InputError.h"
 #include "engine/image/Image.h"
 #include "engine/scene/SceneJson.h"
 
@@ -54,9 +55,34 @@ void CheckUniqueName(const Reader& r, const std::string& field, const std::strin
 
 bool IsConstant(const Scalar& s, double value) { return s.IsConstant() && s.constant == value; }
 
+// `"distortion": {"model": "OPENCV", "k1": …, "k2": …, "p1": …, "p2": …}` (LensDistortion.h):
+// every coefficient of the model and no other, each a constant.
+LensDistortion ReadDistortion(const Reader& r, const Json& j, const std::string& path) {
+  const std::string models = DistortionModelList();
+  if (!j.is_object())
+    r.Fail(path, "expected {\"model\": NAME, coefficients…} with NAME one of " + models);
+  LensDistortion d;
+  const std::string model_path = Join(path, "model");
+  const std::string model = r.String(r.Require(j, path, "model"), model_path);
+  if (!FromString(model, &d.model)) r.Fail(model_path, "unknown distortion model '" + model + "' (" + models + ")");
+  const std::vector<std::string>& names = CoefficientNames(d.model);
+  std::string list;
+  for (const std::string& n : names) list += (list.empty() ? "" : ", ") + n;
+  for (const auto& [key, value] : j.items())
+    if (key != "model" && std::find(names.begin(), names.end(), key) == names.end())
+      r.Fail(Join(path, key), model + " has no coefficient '" + key + "' (it takes " + list + ")");
+  for (size_t i = 0; i < names.size(); ++i) {
+    const auto it = j.find(names[i]);
+    if (it == j.end()) r.Fail(Join(path, names[i]), "missing (" + model + " takes " + list + ")");
+    d.coefficients[i] = r.Number(*it, Join(path, names[i]),
+                                 "lens distortion is constant: a photograph is undistorted once, when loaded");
+  }
+  return d;
+}
+
 CameraModel ReadCamera(const Reader& r, const Json& j, const std::string& path,
                        const std::filesystem::path& images_dir) {
-  r.CheckObject(j, path, {"name", "image", "width", "height", "K", "R", "t", "pose"});
+  r.CheckObject(j, path, {"name", "image", "width", "height", "K", "R", "t", "pose", "distortion"});
   CameraModel cam;
   cam.name = r.String(r.Require(j, path, "name"), Join(path, "name"));
   if (cam.name.empty()) r.Fail(Join(path, "name"), "empty camera name");
@@ -100,6 +126,15 @@ CameraModel ReadCamera(const Reader& r, const Json& j, const std::string& path,
 
   if (auto it = j.find("pose"); it != j.end())
     cam.pose = r.Transforms(*it, Join(path, "pose"), /*allow_scale=*/false);
+  if (auto it = j.find("distortion"); it != j.end()) {
+    cam.distortion = ReadDistortion(r, *it, Join(path, "distortion"));
+    // The photograph is resampled to the pinhole of K once, at load: K cannot change later.
+    for (int k : {0, 1, 2, 4, 5})
+      if (!cam.K[k].IsConstant())
+        r.Fail(Index(Index(k_path, size_t(k / 3)), size_t(k % 3)),
+               "a camera with lens distortion needs a constant K (its photograph is undistorted "
+               "once, with K, when loaded)");
+  }
   return cam;
 }
 
@@ -120,6 +155,7 @@ void ReadColmap(const Json& value, const Reader& sr, bool require_images, Scene&
     cam.height = im.height;
     const double K[9] = {im.fx, 0, im.cx, 0, im.fy, im.cy, 0, 0, 1};
     for (int k = 0; k < 9; ++k) cam.K[k].constant = K[k];
+    cam.distortion = im.distortion;
     cam.R = im.R;
     cam.t = im.t;
     if (require_images)

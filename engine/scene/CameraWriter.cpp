@@ -26,6 +26,12 @@ void WriteCamerasJson(const std::filesystem::path& file, const std::vector<Camer
       j["R"].push_back({R(r, 0), R(r, 1), R(r, 2)});
       j["t"].push_back(t(r));
     }
+    if (!c.distortion.IsNone()) {  // what LoadScene reads back (CameraLoader.cpp)
+      nlohmann::json d{{"model", ToString(c.distortion.model)}};
+      const std::vector<std::string>& names = CoefficientNames(c.distortion.model);
+      for (size_t i = 0; i < names.size(); ++i) d[names[i]] = c.distortion.coefficients[i];
+      j["distortion"] = d;
+    }
     list.push_back(j);
   }
   std::ofstream out(file);

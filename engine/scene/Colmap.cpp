@@ -1,6 +1,7 @@
 #include "engine/scene/Colmap.h"
 
 #include <Eigen/Geometry>
+#include <cmath>
 #include <fstream>
 #include <locale>
 #include <map>
@@ -14,7 +15,30 @@ namespace {
 struct Intrinsics {
   int width = 0, height = 0;
   double fx = 0, fy = 0, cx = 0, cy = 0;
+  LensDistortion distortion;
 };
+
+// A COLMAP model vkrecon reads: its name, whether it has one focal length (f) or two
+// (fx fy), and its distortion model (None for the pinholes).
+struct ColmapModel {
+  const char* name;
+  bool single_focal;
+  DistortionModel distortion;
+};
+constexpr ColmapModel kColmapModels[] = {
+    {"SIMPLE_PINHOLE", true, DistortionModel::None},
+    {"PINHOLE", false, DistortionModel::None},
+    {"SIMPLE_RADIAL", true, DistortionModel::SimpleRadial},
+    {"RADIAL", true, DistortionModel::Radial},
+    {"OPENCV", false, DistortionModel::OpenCV},
+    {"FULL_OPENCV", false, DistortionModel::FullOpenCV},
+};
+
+std::string ColmapModelList() {
+  std::string list;
+  for (const ColmapModel& m : kColmapModels) list += (list.empty() ? "" : ", ") + std::string(m.name);
+  return list;
+}
 
 // Numbered lines of a text file, trimmed, with CR stripped (files written on Windows).
 struct TextFile {
@@ -63,17 +87,23 @@ std::map<long long, Intrinsics> ReadCameras(const TextFile& f) {
     std::vector<double> params;
     for (double v; s >> v;) params.push_back(v);
     if (!s.eof()) f.Fail(i, "camera parameters must be numbers");
-    size_t expected = 0;
-    if (model == "PINHOLE") expected = 4;
-    else if (model == "SIMPLE_PINHOLE") expected = 3;
-    else
-      f.Fail(i, "camera model " + model +
-                    " is not supported (PINHOLE, SIMPLE_PINHOLE: vkrecon has no lens distortion)");
+    const ColmapModel* known = nullptr;
+    for (const ColmapModel& m : kColmapModels)
+      if (model == m.name) known = &m;
+    if (!known) f.Fail(i, "camera model " + model + " is not supported (supported: " + ColmapModelList() + ")");
+    const size_t focals = known->single_focal ? 1 : 2;
+    const size_t expected = focals + 2 + CoefficientNames(known->distortion).size();
     if (params.size() != expected)
       f.Fail(i, model + " needs " + std::to_string(expected) + " parameters, not " +
                     std::to_string(params.size()));
-    if (expected == 4) c.fx = params[0], c.fy = params[1], c.cx = params[2], c.cy = params[3];
-    else c.fx = c.fy = params[0], c.cx = params[1], c.cy = params[2];
+    for (double v : params)
+      if (!std::isfinite(v)) f.Fail(i, "camera parameters must be finite");
+    c.fx = params[0];
+    c.fy = params[focals - 1];
+    c.cx = params[focals];
+    c.cy = params[focals + 1];
+    c.distortion.model = known->distortion;
+    for (size_t k = focals + 2; k < params.size(); ++k) c.distortion.coefficients[k - focals - 2] = params[k];
     if (c.width <= 0 || c.height <= 0 || !(c.fx > 0) || !(c.fy > 0))
       f.Fail(i, "camera size and focal length must be positive");
     if (!cameras.emplace(id, c).second) f.Fail(i, "camera " + std::to_string(id) + " defined twice");
@@ -114,6 +144,7 @@ std::vector<ColmapImage> ReadColmapText(const std::filesystem::path& dir,
     const Intrinsics& c = camera->second;
     im.width = c.width, im.height = c.height;
     im.fx = c.fx, im.fy = c.fy, im.cx = c.cx, im.cy = c.cy;
+    im.distortion = c.distortion;
     im.R = quat.normalized().toRotationMatrix();
     im.t = Eigen::Vector3d(t[0], t[1], t[2]);
     images.push_back(std::move(im));

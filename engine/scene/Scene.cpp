@@ -155,6 +155,7 @@ std::vector<Camera> Scene::Cameras(const std::vector<double>& psi) const {
     cam.image = model.image;
     cam.width = model.width;
     cam.height = model.height;
+    cam.distortion = model.distortion;
     for (int k = 0; k < 9; ++k) cam.K(k / 3, k % 3) = Evaluate(model.K[k], psi);
     cam.cam_from_world.setIdentity();
     cam.cam_from_world.topLeftCorner<3, 3>() = model.R;

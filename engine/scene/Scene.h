@@ -14,6 +14,8 @@
 #include <string>
 #include <vector>
 
+#include "engine/scene/LensDistortion.h"
+
 namespace vkr {
 
 class ExpressionTable;
@@ -85,6 +87,12 @@ struct CameraModel {
   // Optional transforms that move the camera in the world:
   // world_from_cam' = pose · world_from_cam.
   std::vector<Transform> pose;
+  // The lens (None: a pinhole). A camera with distortion has a constant K: its photograph
+  // is undistorted once, with that K, when it is loaded (pipelines/LensWarp.h).
+  LensDistortion distortion;
+  // The validity mask (absolute path, 0 = ignore that pixel), or empty: every pixel counts.
+  // Found by the masks folder rule of docs/SCENE_FORMAT.md, "Masks".
+  std::filesystem::path mask;
 };
 
 // A camera evaluated at one hypothesis. OpenCV convention: x_cam = R·X + t, the camera
@@ -96,11 +104,14 @@ struct Camera {
   int width = 0, height = 0;
   Eigen::Matrix3d K = Eigen::Matrix3d::Identity();
   Eigen::Matrix4d cam_from_world = Eigen::Matrix4d::Identity();
+  // Applied to normalised coordinates between cam_from_world and K (LensDistortion.h).
+  LensDistortion distortion;
 
   Eigen::Matrix3d R() const { return cam_from_world.topLeftCorner<3, 3>(); }
   Eigen::Vector3d t() const { return cam_from_world.topRightCorner<3, 1>(); }
   Eigen::Vector3d Centre() const { return -R().transpose() * t(); }
-  // Pixel coordinates of a world point (no check that it is in front).
+  // Pixel coordinates of a world point through the pinhole K, without the lens's
+  // distortion (no check that it is in front).
   Eigen::Vector2d Project(const Eigen::Vector3d& world) const;
 };
 

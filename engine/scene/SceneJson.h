@@ -81,4 +81,9 @@ struct Reader {
 void ReadCameras(const Json& value, const Reader& scene_reader, bool require_images,
                  Scene& scene);
 
+// Finds each camera's mask (MaskLoader.cpp: the scene's `masks` folder, `value`, or
+// without one `masks/` beside the images folder) and, with `require_images`, checks that it
+// is readable and of its camera's size.
+void ResolveMasks(const Json* value, const Reader& scene_reader, bool require_images, Scene& scene);
+
 }  // namespace vkr::scene_detail

@@ -248,7 +248,7 @@ Scene LoadScene(const std::filesystem::path& file, const std::vector<SceneOverri
   r.file = display;
   r.dir = scene.file.parent_path();
   r.overridden = &overridden;
-  r.CheckObject(root, "", {"version", "images", "cameras", "parameters", "nodes",
+  r.CheckObject(root, "", {"version", "images", "cameras", "masks", "parameters", "nodes",
                            "likelihood", "sampler", "synth"});
 
   const long long version = r.Integer(r.Require(root, "", "version"), "version", 0, LLONG_MAX);
@@ -278,6 +278,8 @@ Scene LoadScene(const std::filesystem::path& file, const std::vector<SceneOverri
   if (auto it = root.find("nodes"); it != root.end()) ReadNodes(r, *it, scene.nodes);
   if (auto it = root.find("cameras"); it != root.end())
     ReadCameras(*it, r, options.require_images, scene);
+  const auto masks = root.find("masks");
+  ResolveMasks(masks == root.end() ? nullptr : &*masks, r, options.require_images, scene);
   CheckScene(scene, display);
   return scene;
 }

@@ -22,6 +22,8 @@ VkDeviceMemory Allocate(Device& device, const VkMemoryRequirements& req, MemoryU
 
 uint32_t BytesPerTexel(VkFormat format) {
   switch (format) {
+    case VK_FORMAT_R8_UNORM:
+      return 1;
     case VK_FORMAT_R8G8B8A8_UNORM:
     case VK_FORMAT_R8G8B8A8_SRGB:
     case VK_FORMAT_R32_SFLOAT:

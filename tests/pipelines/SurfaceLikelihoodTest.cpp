@@ -178,7 +178,7 @@ TEST_F(SurfaceLikelihoodVsReference, WithAColourCorrectionAndTextureNoiseTheySti
   for (size_t k = 0; k < gpu.size(); ++k) {
     SCOPED_TRACE(hypotheses[k].first);
     const ReducedScalars ref = ReferenceSurfaceScalars(box.scene, geometry, pyramids, hypotheses[k].second, 0, options,
-                                                        nullptr, ColourSampling::Prefiltered, &correction);
+                                                        nullptr, ColourSampling::Prefiltered, nullptr, &correction);
     const ReducedScalars& g = gpu[k].scalars;
     std::printf("  %-8s dof %.0f/%.0f S %.5g/%.5g outlier views %u/%u of %u/%u\n", hypotheses[k].first.c_str(), g.dof,
                 ref.dof, g.sum_squares, ref.sum_squares, g.outlier_views, ref.outlier_views, g.views, ref.views);

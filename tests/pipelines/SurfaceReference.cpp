@@ -13,6 +13,7 @@
 
 #include "engine/image/Pyramid.h"
 #include "pipelines/Projection.h"
+#include "pipelines/ReferenceImages.h"
 #include "pipelines/ViewRendering.h"
 
 namespace vkr::test {
@@ -114,16 +115,22 @@ struct LevelCamera {
   Eigen::Matrix4d cam_from_world;
   Eigen::Vector3d centre;
   const std::vector<Image>* pyramid = nullptr;
+  const std::vector<Image>* validity = nullptr;  // null or empty: every pixel counts
   int width = 0, height = 0;  // of level l
 };
 
 }  // namespace
 
-std::vector<std::vector<Image>> LoadReferencePyramids(const Scene& scene, int levels) {
+std::vector<std::vector<Image>> LoadReferencePyramids(const Scene& scene, int levels,
+                                                      std::vector<std::vector<Image>>* validity) {
   std::vector<std::vector<Image>> pyramids;
-  for (const CameraModel& camera : scene.cameras) {
-    pyramids.push_back(BuildPyramid(LoadImage(camera.image), levels));
+  if (validity) validity->clear();
+  for (size_t c = 0; c < scene.cameras.size(); ++c) {
+    const CameraPhoto photo = LoadCameraPhoto(scene, int(c), 1);
+    pyramids.push_back(BuildPyramid(photo.image, levels));
     for (Image& level : pyramids.back()) StoreGradientInAlpha(level);
+    if (validity)
+      validity->push_back(photo.validity.Empty() ? std::vector<Image>{} : BuildValidityPyramid(photo.validity, levels));
   }
   return pyramids;
 }
@@ -185,6 +192,7 @@ ReducedScalars ReferenceSurfaceScalars(const Scene& scene, const SceneGeometry& 
                                        const std::vector<double>& psi, int level,
                                        const SurfaceLikelihoodOptions& options,
                                        ReferenceTexels* texels, ColourSampling sampling,
+                                       const std::vector<std::vector<Image>>* validity,
                                        const PhotometricCorrection* photometric) {
   const PhotometricCorrection identity = PhotometricCorrection::Identity(int(scene.cameras.size()));
   if (!photometric) photometric = &identity;
@@ -200,7 +208,7 @@ ReducedScalars ReferenceSurfaceScalars(const Scene& scene, const SceneGeometry& 
   }
 
   const std::vector<Camera> scene_cameras = scene.Cameras(psi);
-  if (pyramids.size() != scene_cameras.size())
+  if (pyramids.size() != scene_cameras.size() || (validity && validity->size() != pyramids.size()))
     throw std::invalid_argument("ReferenceSurfaceScalars: one pyramid per camera expected");
   const double s = std::ldexp(1.0, -level);
   std::vector<LevelCamera> cameras;
@@ -211,6 +219,7 @@ ReducedScalars ReferenceSurfaceScalars(const Scene& scene, const SceneGeometry& 
     lc.cam_from_world = scene_cameras[c].cam_from_world;
     lc.centre = scene_cameras[c].Centre();
     lc.pyramid = &pyramids[c];
+    if (validity && !(*validity)[c].empty()) lc.validity = &(*validity)[c];
     lc.width = pyramids[c][level].width;
     lc.height = pyramids[c][level].height;
     cameras.push_back(lc);
@@ -298,23 +307,33 @@ ReducedScalars ReferenceSurfaceScalars(const Scene& scene, const SceneGeometry& 
       const double cos_theta = n.dot(to_camera.normalized());
       // The texel's area in level-l pixels.
       const double footprint = texel_area * cos_theta * cam.K(0, 0) * cam.K(1, 1) / (z * z);
-      float rgba[4];
-      if (sampling == ColourSampling::LevelBilinear) {
-        SampleBilinear((*cam.pyramid)[level], u, vv, rgba);
-      } else {
-        const int last = int(cam.pyramid->size()) - 1;
+      // One sample of a pyramid (the colours', or the validity's, read the same way).
+      auto sample = [&](const std::vector<Image>& pyramid, float rgba[4]) {
+        if (sampling == ColourSampling::LevelBilinear) {
+          SampleBilinear(pyramid[level], u, vv, rgba);
+          return;
+        }
+        const int last = int(pyramid.size()) - 1;
         double lambda = level + std::max(0.0, 0.5 * std::log2(std::max(footprint, 1e-12)));
         lambda = std::min(lambda, double(last));
         const int k0 = int(std::floor(lambda));
         const double frac = lambda - k0;
-        SampleBilinear((*cam.pyramid)[k0], std::ldexp(u, level - k0), std::ldexp(vv, level - k0), rgba);
+        SampleBilinear(pyramid[k0], std::ldexp(u, level - k0), std::ldexp(vv, level - k0), rgba);
         if (frac > 0.0 && k0 < last) {
           float finer[4];
           for (int ch = 0; ch < 4; ++ch) finer[ch] = rgba[ch];
-          SampleBilinear((*cam.pyramid)[k0 + 1], std::ldexp(u, level - k0 - 1), std::ldexp(vv, level - k0 - 1), rgba);
+          SampleBilinear(pyramid[k0 + 1], std::ldexp(u, level - k0 - 1), std::ldexp(vv, level - k0 - 1), rgba);
           for (int ch = 0; ch < 4; ++ch) rgba[ch] = float((1.0 - frac) * finer[ch] + frac * rgba[ch]);
         }
+      };
+      // Masked pixels and the lens border are no evidence: a sample touching one is dropped.
+      if (cam.validity) {
+        float valid[4];
+        sample(*cam.validity, valid);
+        if (valid[0] < 0.999f) continue;
       }
+      float rgba[4];
+      sample(*cam.pyramid, rgba);
       double w = 1.0;
       if (options.weights == ViewWeights::Angle) w = cos_theta * std::min(1.0, footprint);
       if (texels) {

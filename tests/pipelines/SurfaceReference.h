@@ -73,15 +73,21 @@ enum class ColourSampling {
   Prefiltered,
 };
 
-// Every camera's image pyramid, in the order of scene.cameras: LoadImage(camera.image) and
-// BuildPyramid(image, levels).
-std::vector<std::vector<Image>> LoadReferencePyramids(const Scene& scene, int levels);
+// Every camera's image pyramid, in the order of scene.cameras: its photograph as the
+// likelihoods load it (LoadCameraPhoto: undistorted when the camera has a lens) and
+// BuildPyramid(image, levels). `validity`, when given, receives per camera the
+// BuildValidityPyramid of its validity image (mask × lens border), or an empty pyramid for a
+// camera whose every pixel counts.
+std::vector<std::vector<Image>> LoadReferencePyramids(const Scene& scene, int levels,
+                                                      std::vector<std::vector<Image>>* validity = nullptr);
 
 // The reduced scalars of hypothesis `psi` at pyramid level `level`, as SurfaceLikelihood
 // defines them. With ColourSampling::Prefiltered the pyramids need the levels λ can reach.
 // `geometry` is BuildSceneGeometry(scene, scene.InitialValues(), atlas) (the
 // atlas layout is shared with the GPU path); only options.model and options.weights are read,
 // the atlas side comes from geometry.atlas.size. `texels`, when given, receives per-texel data.
+// `validity` (from LoadReferencePyramids): a camera does not see a texel whose colour sample
+// reads its validity pyramid, sampled the same way, below 0.999 (view_texture.frag's rule).
 // `photometric`: the per-camera colour correction (null: the identity).
 ReducedScalars ReferenceSurfaceScalars(const Scene& scene, const SceneGeometry& geometry,
                                        const std::vector<std::vector<Image>>& pyramids,
@@ -89,6 +95,7 @@ ReducedScalars ReferenceSurfaceScalars(const Scene& scene, const SceneGeometry& 
                                        const SurfaceLikelihoodOptions& options,
                                        ReferenceTexels* texels = nullptr,
                                        ColourSampling sampling = ColourSampling::LevelBilinear,
+                                       const std::vector<std::vector<Image>>* validity = nullptr,
                                        const PhotometricCorrection* photometric = nullptr);
 
 // ---- Test scenes shared by the reference's own tests and the GPU comparison ----

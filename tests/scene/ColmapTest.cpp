@@ -86,13 +86,89 @@ TEST(Colmap, SceneCamerasAndProjection) {
 TEST(Colmap, UnsupportedModelNamesFileLineAndModel) {
   TempDir dir;
   WriteText(dir / "sparse/cameras.txt",
-            std::string(kCamerasTxt) + "3 OPENCV 4 3 100 100 2 1.5 0 0 0 0\n");
+            std::string(kCamerasTxt) + "3 OPENCV_FISHEYE 4 3 100 100 2 1.5 0 0 0 0\n");
   WriteText(dir / "sparse/images.txt", kImagesTxt);
   Json scene = BaseScene();
   scene["cameras"] = Json{{"colmap", "sparse"}};
   WriteScene(dir, scene);
   EXPECT_TRUE(FailsWith([&] { LoadScene(dir / "scene.json"); },
-                        {"sparse/cameras.txt: line 5: camera model OPENCV is not supported"}));
+                        {"sparse/cameras.txt: line 5: camera model OPENCV_FISHEYE is not supported",
+                         "(supported: SIMPLE_PINHOLE, PINHOLE, SIMPLE_RADIAL, RADIAL, OPENCV, FULL_OPENCV)"}));
+}
+
+// Every distortion model COLMAP calibrates ordinary lenses with, parameters in its order.
+TEST(Colmap, ReadsEveryDistortionModel) {
+  TempDir dir;
+  WriteText(dir / "sparse/cameras.txt",
+            "1 SIMPLE_RADIAL 4 3 100 2 1.5 -0.1\n"
+            "2 RADIAL 4 3 101 2 1.5 -0.1 0.02\n"
+            "3 OPENCV 4 3 102 103 2 1.5 -0.1 0.02 0.001 -0.002\n"
+            "4 FULL_OPENCV 4 3 104 105 2 1.5 -0.1 0.02 0.001 -0.002 0.003 0.04 0.005 0.006\n");
+  WriteText(dir / "sparse/images.txt",
+            "1 1 0 0 0 0 0 1 1 a.pgm\n2 1 0 0 0 0 0 1 2 b.pgm\n3 1 0 0 0 0 0 1 3 c.pgm\n4 1 0 0 0 0 0 1 4 d.pgm\n");
+  const auto images = ReadColmapText(dir / "sparse", "sparse");
+  ASSERT_EQ(images.size(), 4u);
+  EXPECT_EQ(images[0].distortion.model, DistortionModel::SimpleRadial);
+  EXPECT_EQ(images[0].fx, 100);
+  EXPECT_EQ(images[0].fy, 100);
+  EXPECT_EQ(images[0].distortion.Coefficient("k"), -0.1);
+  EXPECT_EQ(images[1].distortion.model, DistortionModel::Radial);
+  EXPECT_EQ(images[1].distortion.Coefficient("k2"), 0.02);
+  EXPECT_EQ(images[1].fy, 101);
+  EXPECT_EQ(images[2].distortion.model, DistortionModel::OpenCV);
+  EXPECT_EQ(images[2].fx, 102);
+  EXPECT_EQ(images[2].fy, 103);
+  EXPECT_EQ(images[2].cx, 2);
+  EXPECT_EQ(images[2].distortion.Coefficient("p1"), 0.001);
+  EXPECT_EQ(images[2].distortion.Coefficient("p2"), -0.002);
+  EXPECT_EQ(images[3].distortion.model, DistortionModel::FullOpenCV);
+  EXPECT_EQ(images[3].fy, 105);
+  EXPECT_EQ(images[3].cy, 1.5);
+  EXPECT_EQ(images[3].distortion.Coefficient("k3"), 0.003);
+  EXPECT_EQ(images[3].distortion.Coefficient("k6"), 0.006);
+  EXPECT_EQ(ReadColmapText(dir / "sparse", "sparse").size(), 4u);
+
+  // Too few parameters for the model, and numbers that are not finite.
+  WriteText(dir / "sparse/cameras.txt", "1 OPENCV 4 3 102 103 2 1.5 -0.1 0.02 0.001\n");
+  EXPECT_TRUE(FailsWith([&] { ReadColmapText(dir / "sparse", "sparse"); },
+                        {"sparse/cameras.txt: line 1", "OPENCV needs 8 parameters, not 7"}));
+  WriteText(dir / "sparse/cameras.txt", "1 RADIAL 4 3 101 2 1.5 -0.1 1e999\n");
+  EXPECT_TRUE(FailsWith([&] { ReadColmapText(dir / "sparse", "sparse"); }, {"sparse/cameras.txt: line 1"}));
+}
+
+// The scene's cameras carry the lens; what synth --colmap writes reads back the same.
+TEST(Colmap, DistortionReachesTheCamerasAndRoundTrips) {
+  TempDir dir;
+  WriteText(dir / "sparse/cameras.txt", "7 OPENCV 4 3 102 103 2 1.5 -0.1 0.02 0.001 -0.002\n");
+  WriteText(dir / "sparse/images.txt", "1 0.7071067811865476 0 0 0.7071067811865476 1 2 3 7 sub/c1.pgm\n");
+  Json scene = BaseScene();
+  scene["images"] = "images";
+  scene["cameras"] = Json{{"colmap", "sparse"}};
+  const Scene s = LoadScene(WriteScene(dir, scene), {}, LoadOptions{false});
+  const std::vector<Camera> cams = s.Cameras(s.InitialValues());
+  ASSERT_EQ(cams.size(), 1u);
+  EXPECT_EQ(cams[0].distortion.model, DistortionModel::OpenCV);
+  EXPECT_EQ(cams[0].distortion.Coefficient("k2"), 0.02);
+
+  WriteColmapText(dir / "again", cams, dir / "images");
+  const auto back = ReadColmapText(dir / "again", "again");
+  ASSERT_EQ(back.size(), 1u);
+  EXPECT_EQ(back[0].image, "sub/c1.pgm");
+  EXPECT_EQ(back[0].fx, 102);
+  EXPECT_EQ(back[0].fy, 103);
+  EXPECT_EQ(back[0].cy, 1.5);
+  EXPECT_EQ(back[0].distortion.coefficients, cams[0].distortion.coefficients);
+  EXPECT_TRUE(back[0].R.isApprox(cams[0].R(), 1e-15));
+  EXPECT_EQ(back[0].t, cams[0].t());
+
+  // RADIAL is written as the OPENCV model it is a special case of; skew has no COLMAP form.
+  std::vector<Camera> radial = cams;
+  radial[0].distortion = LensDistortion{DistortionModel::Radial, {-0.3, 0.05}};
+  WriteColmapText(dir / "radial", radial, dir / "images");
+  EXPECT_NE(ReadText(dir / "radial/cameras.txt").find("1 OPENCV 4 3 102 103 2 1.5 -0.3 0.05 0 0\n"),
+            std::string::npos);
+  radial[0].K(0, 1) = 0.5;
+  EXPECT_TRUE(FailsWith([&] { WriteColmapText(dir / "skew", radial, dir / "images"); }, {"no skew"}));
 }
 
 TEST(Colmap, BadModels) {
@@ -115,7 +191,7 @@ TEST(Colmap, BadModels) {
 TEST(CameraFile, ExtraKeysAreIgnoredAndImagesResolveAgainstTheImagesFolder) {
   TempDir dir;
   Json cam = BaseCamera("c1", "c1.pgm");
-  cam["distortion"] = Json::array({0, 0, 0});  // written by another tool
+  cam["sensor"] = Json::array({0, 0, 0});  // written by another tool
   WriteText(dir / "cams/cameras.json",
             Json{{"generator", "tool 1.0"}, {"cameras", Json::array({cam})}}.dump());
   WritePgm(dir / "photos/c1.pgm", 4, 3);
