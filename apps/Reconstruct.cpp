@@ -1,5 +1,7 @@
 #include "apps/Reconstruct.h"
 
+#include "apps/Diagnosis.h"
+
 #include <unistd.h>
 
 #include <atomic>
@@ -17,6 +19,7 @@
 #include "pipelines/LikelihoodTool.h"
 #include "pipelines/ModelExport.h"
 #include "pipelines/NoiseCalibration.h"
+#include "pipelines/Residuals.h"
 #include "pipelines/SurfaceLikelihood.h"
 
 namespace fs = std::filesystem;
@@ -32,8 +35,15 @@ std::atomic<bool> g_stop{false};
 // noise model there (NoiseCalibration.h).
 class LikelihoodTarget : public opt::Target {
  public:
-  LikelihoodTarget(Likelihood& likelihood, bool estimate_sigma)
-      : likelihood_(likelihood), estimate_sigma_(estimate_sigma) {}
+  // `clutter_dir`: where the clutter masks found at the mode are kept (they are images, so
+  // the calibration that checkpoints carry names their files).
+  LikelihoodTarget(Likelihood& likelihood, const Scene& scene, bool estimate_sigma, bool mask_clutter,
+                   fs::path clutter_dir)
+      : likelihood_(likelihood),
+        scene_(scene),
+        estimate_sigma_(estimate_sigma),
+        mask_clutter_(mask_clutter),
+        clutter_dir_(std::move(clutter_dir)) {}
   int max_batch() const override { return likelihood_.max_batch(); }
   int levels() const override { return likelihood_.levels(); }
   void SetLevel(int level) override { likelihood_.SetLevel(level); }
@@ -43,19 +53,40 @@ class LikelihoodTarget : public opt::Target {
     return out;
   }
   nlohmann::json Calibrate(const std::vector<double>& psi, const std::vector<double>& covariance) override {
-    calibration_ = CalibrateNoise(likelihood_, psi, covariance, calibration_.kappa, estimate_sigma_);
-    return ToJson(calibration_);
+    calibration_ = CalibrateNoise(likelihood_, psi, covariance, calibration_.kappa, estimate_sigma_, mask_clutter_);
+    nlohmann::json json = ToJson(calibration_);
+    const ClutterMasks& clutter = calibration_.clutter;
+    if (!clutter.masks.empty()) {
+      fs::create_directories(clutter_dir_);
+      nlohmann::json files = nlohmann::json::array();
+      for (size_t i = 0; i < clutter.masks.size(); ++i) {
+        const fs::path file = clutter_dir_ / (scene_.cameras[i].name + ".png");
+        WritePng(file, clutter.masks[i]);
+        files.push_back(file.string());
+      }
+      json["clutter"] = {{"files", files}, {"share", clutter.share}};
+    }
+    return json;
   }
   void RestoreCalibration(const nlohmann::json& calibration) override {
     calibration_ = NoiseCalibrationFromJson(calibration);
     likelihood_.SetSigma(calibration_.sigma);
     likelihood_.SetPositionSd(calibration_.position_sd);
     likelihood_.RestorePhotometric(calibration_.photometric);
+    if (calibration.contains("clutter")) {
+      std::vector<Image> masks;
+      for (const auto& file : calibration["clutter"]["files"]) masks.push_back(LoadImage(file.get<std::string>()));
+      likelihood_.SetClutterMasks(masks);
+      calibration_.clutter.masks = std::move(masks);
+      calibration_.clutter.share = calibration["clutter"]["share"].get<std::vector<double>>();
+    }
   }
 
  private:
   Likelihood& likelihood_;
-  bool estimate_sigma_;
+  const Scene& scene_;
+  bool estimate_sigma_, mask_clutter_;
+  fs::path clutter_dir_;
   NoiseCalibration calibration_;  // κ = 1 until calibrated
 };
 
@@ -163,70 +194,10 @@ void PreflightVisibility(const Scene& scene, Likelihood& likelihood) {
                      "see nothing of the scene (check poses, priors and images)");
 }
 
-// A model textured with the composite that differs from the photographs by this RMS
-// (0–255 scale) where it covers them explains nothing: camera noise is a few units, JPEG
-// and lighting add ten or twenty. (σ itself cannot tell: it is the noise of prefiltered
-// samples, which averages pixels — images of pure noise of sd 120 give σ ≈ 11.)
-constexpr double kImplausibleRms = 48.0;
-
-// Over every camera's covered pixels.
-double ReprojectionRms(const std::vector<Reprojection>& reprojections) {
-  double squares = 0.0;
-  int64_t pixels = 0;
-  for (const Reprojection& r : reprojections) {
-    squares += r.rms_255 * r.rms_255 * double(r.pixels);
-    pixels += r.pixels;
-  }
-  return pixels ? std::sqrt(squares / double(pixels)) : 0.0;
-}
-
 // The σ (0–255) the run ended with: estimated at the mode with `sigma: auto`, else the given one.
 double SigmaUsed(const Scene& scene, const opt::SamplerSummary& s) {
   if (s.calibration.is_object() && s.calibration.contains("sigma")) return s.calibration["sigma"].get<double>();
   return scene.likelihood.sigma;
-}
-
-// What the numbers at the MAP say about the fit, in sentences.
-std::vector<std::string> Diagnose(const Scene& scene, const Evaluation& at_map, const opt::SamplerSummary& s,
-                                  const std::vector<Reprojection>& reprojections, bool* ok) {
-  std::vector<std::string> notes;
-  *ok = true;
-  const double sigma_255 = SigmaUsed(scene, s);
-  const double chi2 = Chi2PerDof(at_map.scalars, sigma_255);
-  const double surface = double(at_map.scalars.seen_multi) + at_map.scalars.seen_once + at_map.scalars.seen_none;
-  if (!(at_map.scalars.seen_multi > 0.05 * surface)) {
-    *ok = false;
-    notes.push_back("less than 5 % of the surface is seen by two cameras at the MAP: the images show little of the scene");
-  }
-  if (!(chi2 < 4.0)) {
-    *ok = false;
-    char buf[200];
-    std::snprintf(buf, sizeof buf,
-                  "the views disagree far beyond the noise at the MAP (chi2 per dof %.2f with sigma %.1f): the "
-                  "model does not explain the images",
-                  chi2, sigma_255);
-    notes.push_back(buf);
-  }
-  if (const double rms = ReprojectionRms(reprojections); !(rms < kImplausibleRms)) {
-    *ok = false;
-    char buf[240];
-    std::snprintf(buf, sizeof buf,
-                  "the model textured with the composite differs from the photographs by RMS %.1f (0-255) "
-                  "where it covers them, far beyond camera noise: the model does not explain the images",
-                  rms);
-    notes.push_back(buf);
-  }
-  for (size_t i = 0; i < s.parameters.size() && i < scene.parameters.size(); ++i) {
-    const Prior& prior = scene.parameters[i].prior;
-    const double prior_sd = prior.kind == Prior::Kind::Uniform ? (prior.b - prior.a) / std::sqrt(12.0) : prior.b;
-    if (s.parameters[i].sd > 0.5 * prior_sd)
-      notes.push_back(s.parameters[i].name + " is barely constrained by the images (posterior sd " +
-                      std::to_string(s.parameters[i].sd) + " against the prior's " + std::to_string(prior_sd) + ")");
-    if (s.parameters[i].rhat > 1.1)
-      notes.push_back(s.parameters[i].name + ": the chains disagree (R-hat " + std::to_string(s.parameters[i].rhat) +
-                      "); run longer");
-  }
-  return notes;
 }
 
 }  // namespace
@@ -243,7 +214,8 @@ ReconstructResult Reconstruct(const ReconstructOptions& options, vk::Device& dev
   LikelihoodSetup setup;
   setup.max_batch = scene.sampler.batch;
   std::unique_ptr<Likelihood> likelihood = MakeLikelihood(device, scene, setup);
-  LikelihoodTarget target(*likelihood, scene.likelihood.sigma_auto);
+  LikelihoodTarget target(*likelihood, scene, scene.likelihood.sigma_auto, scene.likelihood.clutter,
+                          options.output_dir / "clutter");
   // The photographs' exposures differ: a first colour correction at the initial parameters,
   // on the coarsest level, where misregistration matters least (refitted at the mode). Done
   // again, identically, when a run resumes before its first calibration.
@@ -330,6 +302,13 @@ ReconstructResult Reconstruct(const ReconstructOptions& options, vk::Device& dev
   SurfaceLikelihood outputs(device, scene, surface);
   if (summary.calibration.is_object() && !summary.calibration["photometric"].is_null())
     outputs.SetPhotometric(PhotometricFromJson(summary.calibration["photometric"], int(scene.cameras.size())));
+  std::vector<Image> clutter;
+  std::vector<double> clutter_share;
+  if (summary.calibration.is_object() && summary.calibration.contains("clutter")) {
+    for (const auto& file : summary.calibration["clutter"]["files"]) clutter.push_back(LoadImage(file.get<std::string>()));
+    clutter_share = summary.calibration["clutter"]["share"].get<std::vector<double>>();
+    outputs.SetClutterMasks(clutter);
+  }
   Evaluation at_map;
   const SurfaceDump dump = outputs.EvaluateAndDump(summary.map, &at_map);
   const Image composite = DilateAtlas(dump.composite);
@@ -337,9 +316,19 @@ ReconstructResult Reconstruct(const ReconstructOptions& options, vk::Device& dev
   WritePng(options.output_dir / "composite.png", composite);
   const SceneGeometry geometry = BuildSceneGeometry(scene, scene.InitialValues(), surface.atlas);
   WriteTexturedGlb(options.output_dir / "model.glb", scene, geometry, summary.map, composite);
+  ReprojectionNoise noise;
+  noise.sigma_255 = surface.model.sigma;
+  noise.position_sd = surface.model.position_sd;
+  noise.photometric = outputs.photometric();
+  noise.clutter = clutter;
   const std::vector<Reprojection> reprojections =
-      WriteReprojections(options.output_dir / "reprojections", device, scene, geometry, summary.map, composite);
-  result.notes = Diagnose(scene, at_map, summary, reprojections, &result.diagnosis_ok);
+      WriteReprojections(options.output_dir / "reprojections", device, scene, geometry, summary.map, composite, noise);
+  const Diagnosis diagnosis = Diagnose(scene, at_map, surface.model.sigma, summary,
+                                       NodeResiduals(scene, geometry.atlas, dump.deviation, dump.noise), reprojections,
+                                       clutter_share);
+  result.notes = diagnosis.notes;
+  result.diagnosis_ok = diagnosis.ok();
+  result.failed = diagnosis.verdict == Diagnosis::Verdict::Failed;
 
   nlohmann::json map = opt::MapJson(summary);
   map["settings"] = {{"scene", fs::absolute(options.scene_file).string()},
@@ -349,13 +338,12 @@ ReconstructResult Reconstruct(const ReconstructOptions& options, vk::Device& dev
                                      {"sigma", scene.likelihood.sigma_auto ? nlohmann::json("auto")
                                                                            : nlohmann::json(scene.likelihood.sigma)},
                                      {"weights", scene.likelihood.weights}, {"atlas", scene.likelihood.atlas},
-                                     {"levels", scene.likelihood.levels}}},
+                                     {"levels", scene.likelihood.levels},
+                                     {"photometric", scene.likelihood.photometric},
+                                     {"clutter", scene.likelihood.clutter}}},
                      {"sampler", opt::ToJson(sampler_options)}};
   for (const SceneOverride& o : options.overrides) map["settings"]["overrides"].push_back(o.path + "=" + o.value);
-  map["diagnosis"] = {{"ok", result.diagnosis_ok},
-                      {"notes", result.notes},
-                      {"chi2_per_dof", at_map.scalars.dof > 0 ? Chi2PerDof(at_map.scalars, SigmaUsed(scene, summary)) : 0.0},
-                      {"reprojection_rms", ReprojectionRms(reprojections)}};
+  map["diagnosis"] = diagnosis.json;
   result.map_json = options.output_dir / "map.json";
   WriteAtomically(result.map_json, map.dump(2) + "\n");
   scene.WriteValues(options.output_dir / "at_map.json", summary.map);  // for render --at

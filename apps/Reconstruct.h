@@ -24,7 +24,8 @@ struct ReconstructOptions {
 
 struct ReconstructResult {
   bool completed = false;          // false: stopped (interrupted); resume to finish
-  bool diagnosis_ok = true;        // false: the fit does not explain the images (see notes)
+  bool diagnosis_ok = false;       // true only when the residuals look like noise and the chains agree
+  bool failed = false;             // the model does not explain the images (exit 1)
   std::vector<std::string> notes;  // the diagnosis, one sentence each
   std::vector<double> map;         // the MAP hypothesis
   std::filesystem::path map_json;

@@ -14,7 +14,9 @@ int RunRun(int argc, char** argv) {
       "refinement) and write OUT/map.json (MAP, posterior mean, sd, 95 % interval, ESS, R-hat, the "
       "calibration), chain.csv, composite.exr/.png, model.glb (textured; opens in Blender) and "
       "reprojections/. The state is saved every few seconds: an interrupted run continues with "
-      "--resume. Exit 1 when the fit does not explain the images; sampler options go in the "
+      "--resume. map.json's diagnosis is ok only when the residuals look like noise on every node and "
+      "photograph and the chains agree; otherwise it names what disagrees (also on stderr). Exit 1 when "
+      "the fit does not explain the images at all; sampler options go in the "
       "scene's \"sampler\" block or --set sampler.NAME=VALUE (optimiser/SamplerOptions.h).",
       "run");
   SceneArgs scene;
@@ -41,10 +43,13 @@ int RunRun(int argc, char** argv) {
   }
   for (const std::string& note : result.notes) std::cerr << "vkrecon run: note: " << note << "\n";
   if (!options.quiet) std::cerr << "vkrecon run: wrote " << out << "/ (map.json, chain.csv, composite.exr, model.glb, reprojections/)\n";
-  if (!result.diagnosis_ok) {
+  if (result.failed) {
     std::cerr << "vkrecon run: error: the result is not trustworthy (see the notes above and map.json's diagnosis)\n";
     return FinishWithDevice(*device, 1);
   }
+  if (!result.diagnosis_ok)
+    std::cerr << "vkrecon run: warning: the diagnosis is not ok (see the notes above and map.json's diagnosis): "
+                 "read the intervals with care\n";
   return FinishWithDevice(*device, 0);
 }
 

@@ -14,6 +14,7 @@
 #include <nlohmann/json.hpp>
 
 #include "engine/image/Image.h"
+#include "pipelines/ClutterMasks.h"
 #include "pipelines/Evaluation.h"
 
 namespace vkr {
@@ -62,6 +63,15 @@ class Likelihood {
   }
   // Puts back what CalibratePhotometric returned (a resumed run).
   virtual void RestorePhotometric(const nlohmann::json& correction) { (void)correction; }
+  // Finds what the photographs show that the scene leaves out (ClutterMasks.h) at ψ, with
+  // the current noise model and colour correction, and masks it from now on. Returns the
+  // masks; none for a likelihood without them (the image-space kind).
+  virtual ClutterMasks MaskClutter(const std::vector<double>& psi) {
+    (void)psi;
+    return {};
+  }
+  // Puts back masks MaskClutter returned (a resumed run).
+  virtual void SetClutterMasks(const std::vector<Image>& masks) { (void)masks; }
 
   // One evaluation per hypothesis, in one GPU submission; batch.size() ≤ max_batch().
   virtual std::vector<Evaluation> Evaluate(const std::vector<std::vector<double>>& batch) = 0;

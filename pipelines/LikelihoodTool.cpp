@@ -12,6 +12,7 @@
 #include <system_error>
 
 #include "engine/common/InputError.h"
+#include "engine/image/ChiSquareRamp.h"
 #include "engine/image/LinePlot.h"
 #include "engine/geometry/SceneGeometry.h"
 #include "pipelines/ImageLikelihood.h"
@@ -27,7 +28,8 @@ namespace {
 template <class Concrete, class Options>
 class Adapter : public Likelihood {
  public:
-  Adapter(vk::Device& device, const Scene& scene, const Options& options) : likelihood_(device, scene, options) {}
+  Adapter(vk::Device& device, const Scene& scene, const Options& options)
+      : device_(&device), likelihood_(device, scene, options) {}
 
   const LikelihoodModel& model() const override { return likelihood_.options().model; }
   int max_batch() const override { return likelihood_.options().max_batch; }
@@ -41,6 +43,7 @@ class Adapter : public Likelihood {
   std::map<std::string, double> LastPassTimesMs() const override { return likelihood_.LastPassTimesMs(); }
 
  protected:
+  vk::Device* device_;
   Concrete likelihood_;
 };
 
@@ -63,6 +66,12 @@ class SurfaceAdapter final : public Adapter<SurfaceLikelihood, SurfaceLikelihood
     if (correction.is_null()) return;
     likelihood_.SetPhotometric(PhotometricFromJson(correction, int(likelihood_.scene().cameras.size())));
   }
+  ClutterMasks MaskClutter(const std::vector<double>& psi) override {
+    ClutterMasks clutter = FindClutter(*device_, likelihood_, psi);
+    likelihood_.SetClutterMasks(clutter.masks);
+    return clutter;
+  }
+  void SetClutterMasks(const std::vector<Image>& masks) override { likelihood_.SetClutterMasks(masks); }
 
   LikelihoodDump EvaluateAndDump(const std::vector<double>& psi, Evaluation* evaluation) override {
     SurfaceDump surface = likelihood_.EvaluateAndDump(psi, evaluation);
@@ -202,25 +211,6 @@ std::string FileStem(std::string name) {
   return name;
 }
 
-// Piecewise-linear colour ramp of χ²/dof (see DeviationRamp).
-void RampColour(double v, float* rgb) {
-  struct Stop {
-    double at;
-    float c[3];
-  };
-  static constexpr Stop kStops[] = {{0.0, {0.05f, 0.05f, 0.45f}},
-                                    {1.0, {0.10f, 0.75f, 0.25f}},
-                                    {2.0, {1.00f, 0.90f, 0.10f}},
-                                    {4.0, {0.85f, 0.05f, 0.05f}}};
-  v = std::clamp(v, 0.0, 4.0);
-  for (size_t k = 1; k < std::size(kStops); ++k) {
-    if (v > kStops[k].at && k + 1 < std::size(kStops)) continue;
-    const double t = (v - kStops[k - 1].at) / (kStops[k].at - kStops[k - 1].at);
-    for (int c = 0; c < 3; ++c) rgb[c] = float(kStops[k - 1].c[c] + t * (kStops[k].c[c] - kStops[k - 1].c[c]));
-    return;
-  }
-}
-
 }  // namespace
 
 std::unique_ptr<Likelihood> MakeLikelihood(vk::Device& device, const Scene& scene, const LikelihoodSetup& setup) {
@@ -263,7 +253,12 @@ LikelihoodReport EvaluateAt(const LikelihoodToolOptions& options, vk::Device& de
     if (s.likelihood->kind() == "surface") {
       const SceneGeometry geometry = BuildSceneGeometry(s.scene, s.scene.InitialValues(), s.scene.likelihood.atlas);
       const fs::path csv = *options.dump_dir / "nodes.csv";
-      WriteNodeResidualsCsv(csv, NodeResiduals(s.scene, geometry.atlas, dump));
+      const Image *deviation = nullptr, *noise = nullptr;
+      for (const DumpImage& d : dump.images) {
+        if (d.name == "deviation") deviation = &d.image;
+        if (d.name == "noise") noise = &d.image;
+      }
+      if (deviation && noise) WriteNodeResidualsCsv(csv, NodeResiduals(s.scene, geometry.atlas, *deviation, *noise));
       r.dump_files.push_back(csv);
     }
   } else {
@@ -431,7 +426,7 @@ Image DeviationRamp(const Image& deviation) {
       } else if (d[1] <= 0.0f) {                    // seen by fewer than two views
         o[0] = o[1] = o[2] = 0.2f;
       } else {
-        RampColour(double(d[0]) / d[1], o);
+        ChiSquareRamp(double(d[0]) / d[1], o);
       }
     }
   return out;

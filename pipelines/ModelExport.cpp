@@ -3,10 +3,13 @@
 #include <tiny_gltf.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstring>
 
 #include "engine/common/InputError.h"
+#include "engine/image/ChiSquareRamp.h"
+#include "engine/image/Pyramid.h"
 #include "pipelines/ViewRendering.h"
 
 namespace fs = std::filesystem;
@@ -171,33 +174,64 @@ void WriteTexturedGlb(const fs::path& file, const Scene& scene, const SceneGeome
 
 std::vector<Reprojection> WriteReprojections(const fs::path& dir, vk::Device& device, const Scene& scene,
                                              const SceneGeometry& geometry, const std::vector<double>& psi,
-                                             const Image& atlas) {
+                                             const Image& atlas, const ReprojectionNoise& noise) {
   fs::create_directories(dir);
   const std::vector<Camera> cameras = scene.Cameras(psi);
   const std::vector<Image> synthetic = RenderWithAtlas(device, scene, psi, geometry, atlas, cameras);
+  const double sigma2 = std::pow(noise.sigma_255 / 255.0, 2), delta2 = noise.position_sd * noise.position_sd;
   std::vector<Reprojection> written;
   for (size_t i = 0; i < cameras.size(); ++i) {
-    const Image reference = LoadImage(cameras[i].image);
+    Image reference = LoadImage(cameras[i].image);
     const int w = reference.width, h = reference.height;
-    Image strip(3 * w, h, 0.0f);
+    Image strip(3 * w, h, 0.0f), residual(w, h, 0.0f);
+    Image gradient = reference;
+    StoreGradientInAlpha(gradient);  // the noise model's |∇I|
+    std::array<double, 3> gain{1, 1, 1}, offset{0, 0, 0};
+    if (i < size_t(noise.photometric.cameras())) gain = noise.photometric.gain[i], offset = noise.photometric.offset[i];
     Reprojection out;
+    out.camera = cameras[i].name;
     double squares = 0.0;
+    int64_t outliers = 0;
     for (int y = 0; y < h; ++y)
       for (int x = 0; x < w; ++x) {
         const float* r = reference.At(x, y);
         const float* s = synthetic[i].At(x, y);
+        const bool covered = s[3] > 0.0f;
+        double e2 = 0.0;
         for (int c = 0; c < 3; ++c) {
+          // The composite is in the cameras' common colours: back to this photograph's.
+          const float sc = covered ? float((s[c] - offset[size_t(c)]) / gain[size_t(c)]) : 0.0f;
+          const double d = double(r[c]) - sc;
           strip.At(x, y)[c] = r[c];
-          strip.At(w + x, y)[c] = s[c];
-          strip.At(2 * w + x, y)[c] = s[3] > 0.0f ? std::min(1.0f, 4.0f * std::abs(r[c] - s[c])) : 0.0f;
-          if (s[3] > 0.0f) squares += double(r[c] - s[c]) * double(r[c] - s[c]);
+          strip.At(w + x, y)[c] = sc;
+          strip.At(2 * w + x, y)[c] = covered ? std::min(1.0f, 4.0f * float(std::abs(d))) : 0.0f;
+          if (covered) e2 += d * d;
         }
-        if (s[3] > 0.0f) ++out.pixels;
+        const double g = gradient.At(x, y)[3];
+        const double per_channel = e2 / (3.0 * (sigma2 + delta2 * g * g));
+        float* o = residual.At(x, y);
+        const bool clutter = i < noise.clutter.size() && noise.clutter[i].At(x, y)[0] < 0.5f;
+        if (covered && clutter) {
+          const float grey = (r[0] + r[1] + r[2]) / 3.0f;
+          o[0] = o[2] = 0.5f + 0.4f * grey;
+          o[1] = 0.2f * grey;
+        } else if (covered) {  // masked clutter is not evidence: out of the figures
+          ++out.pixels;
+          squares += e2;
+          outliers += per_channel > 9.0;
+          ChiSquareRamp(per_channel, o);
+        } else {
+          for (int c = 0; c < 3; ++c) o[c] = 0.25f * r[c];
+        }
+        o[3] = 1.0f;
         strip.At(x, y)[3] = strip.At(w + x, y)[3] = strip.At(2 * w + x, y)[3] = 1.0f;
       }
     out.file = dir / (cameras[i].name + ".png");
     WritePng(out.file, strip);
+    out.residual_file = dir / (cameras[i].name + "_residual.png");
+    WritePng(out.residual_file, residual);
     out.rms_255 = out.pixels ? 255.0 * std::sqrt(squares / (3.0 * double(out.pixels))) : 0.0;
+    out.outlier_share = out.pixels ? double(outliers) / double(out.pixels) : 0.0;
     written.push_back(out);
   }
   return written;

@@ -10,6 +10,7 @@
 #include "engine/image/Image.h"
 #include "engine/scene/Scene.h"
 #include "engine/vk/Device.h"
+#include "pipelines/Photometric.h"
 
 namespace vkr {
 
@@ -26,18 +27,34 @@ Image DilateAtlas(const Image& atlas, int iterations = 4);
 void WriteTexturedGlb(const std::filesystem::path& file, const Scene& scene, const SceneGeometry& geometry,
                       const std::vector<double>& psi, const Image& atlas);
 
-// One camera's reprojection: its file, and how far the model textured with the composite
-// is from the photograph where it covers it (RMS over pixels and channels, 0–255 scale).
+// One camera's reprojection: its files, and how far the model textured with the composite
+// is from the photograph where it covers it.
 struct Reprojection {
-  std::filesystem::path file;
-  double rms_255 = 0.0;
-  int64_t pixels = 0;  // covered by the model
+  std::string camera;
+  std::filesystem::path file, residual_file;
+  double rms_255 = 0.0;       // RMS over covered pixels and channels, 0–255 scale
+  int64_t pixels = 0;         // covered by the model
+  double outlier_share = 0.0; // of those, pixels whose residual exceeds 3 noise sds (RMS over channels)
+};
+
+// The noise model the residuals are measured against, and each camera's colour correction
+// (the composite holds corrected colours; the reprojection undoes a camera's correction so
+// it compares with that photograph as stored).
+struct ReprojectionNoise {
+  double sigma_255 = 8.0;
+  double position_sd = 0.5;                  // δ, pixels: noise σ² + δ²|∇I|²
+  PhotometricCorrection photometric;         // empty: the identity
+  std::vector<Image> clutter;                // per camera, 0 where clutter was masked (empty: none)
 };
 
 // Per camera, `DIR/<camera>.png`: reference | synthetic (the model textured with `atlas`) |
-// |difference| ×4, side by side.
+// |difference| ×4, side by side; and `DIR/<camera>_residual.png`: per pixel the residual's χ²
+// per channel under `noise` on the deviation ramp (blue 0, green 1 = noise, yellow 2, red
+// ≥ 4), the photograph dimmed where the model does not reach and tinted magenta where it was
+// masked as clutter (ClutterMasks.h; those pixels are not counted).
 std::vector<Reprojection> WriteReprojections(const std::filesystem::path& dir, vk::Device& device,
                                              const Scene& scene, const SceneGeometry& geometry,
-                                             const std::vector<double>& psi, const Image& atlas);
+                                             const std::vector<double>& psi, const Image& atlas,
+                                             const ReprojectionNoise& noise);
 
 }  // namespace vkr

@@ -153,7 +153,7 @@ void EstimateSigmaAndDelta(Likelihood& likelihood, const std::vector<double>& ps
 
 NoiseCalibration CalibrateNoise(Likelihood& likelihood, const std::vector<double>& psi,
                                 const std::vector<double>& covariance, double current_kappa,
-                                bool estimate_sigma, double sigma_floor) {
+                                bool estimate_sigma, bool mask_clutter, double sigma_floor) {
   const int level = likelihood.level();
   likelihood.SetLevel(0);
   NoiseCalibration c;
@@ -162,8 +162,18 @@ NoiseCalibration CalibrateNoise(Likelihood& likelihood, const std::vector<double
   c.sigma = sigma_before;
   c.position_sd = likelihood.model().position_sd;
   c.sigma_estimated = estimate_sigma;
-  const ReducedScalars before = likelihood.Evaluate({psi})[0].scalars;
+  const double delta_before = c.position_sd;
   if (estimate_sigma) EstimateSigmaAndDelta(likelihood, psi, sigma_floor, &c);
+  if (mask_clutter) {
+    c.clutter = likelihood.MaskClutter(psi);
+    if (estimate_sigma && !c.clutter.masks.empty()) EstimateSigmaAndDelta(likelihood, psi, sigma_floor, &c);
+  }
+  // The same deviations (final correction and masks) under the old and the new noise model.
+  likelihood.SetSigma(sigma_before);
+  likelihood.SetPositionSd(delta_before);
+  const ReducedScalars before = likelihood.Evaluate({psi})[0].scalars;
+  likelihood.SetSigma(c.sigma);
+  likelihood.SetPositionSd(c.position_sd);
   const ReducedScalars after = likelihood.Evaluate({psi})[0].scalars;
   c.chi2_per_dof = Chi2PerDof(after, c.sigma);
   const size_t d = psi.size();

@@ -40,6 +40,9 @@ struct NoiseCalibration {
   int blocks = 0;                // blocks of texels that carried a gradient
   double chi2_per_dof = 0.0;     // S/σ²/N at the mode with the σ above
   nlohmann::json photometric;    // the per-camera colour correction (Photometric.h), or null
+  // What the photographs show that the scene leaves out, masked from then on (ClutterMasks.h;
+  // not in ToJson: images travel as files, apps/ keeps them).
+  ClutterMasks clutter;
 };
 
 nlohmann::json ToJson(const NoiseCalibration& calibration);
@@ -47,7 +50,8 @@ NoiseCalibration NoiseCalibrationFromJson(const nlohmann::json& json);  // throw
 
 // At ψ (level 0): the colour correction; σ and δ by fixed-point iteration of the two moment
 // conditions when `estimate_sigma` (left set in the likelihood), σ floored at
-// `sigma_floor`; then κ. The floor matters on noise-free images: there 8-bit quantisation
+// `sigma_floor`; the clutter masks (when `mask_clutter`), then σ and δ again without it;
+// then κ. The floor matters on noise-free images: there 8-bit quantisation
 // and the views' different resampling set the deviations (σ̂ ≈ 0.7 on `house`), the robust
 // loss then turns every edge into an outlier, and hiding surface pays — at σ = 0.7 a house
 // 8 % too large outscored the truth; from σ = 2 on the truth wins clearly. `covariance` (d × d row-major) is the
@@ -55,6 +59,6 @@ NoiseCalibration NoiseCalibrationFromJson(const nlohmann::json& json);  // throw
 // one, or a likelihood whose dumps carry no deviation image (image-space kind), leaves κ = 1.
 NoiseCalibration CalibrateNoise(Likelihood& likelihood, const std::vector<double>& psi,
                                 const std::vector<double>& covariance, double current_kappa,
-                                bool estimate_sigma, double sigma_floor = 2.0);
+                                bool estimate_sigma, bool mask_clutter, double sigma_floor = 2.0);
 
 }  // namespace vkr

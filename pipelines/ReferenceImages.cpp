@@ -112,14 +112,18 @@ vk::GpuImage UploadReference(vk::Device& device, vk::Transfer& transfer, const I
 }
 
 vk::GpuImage UploadValidity(vk::Device& device, vk::Transfer& transfer, const CameraPhoto& photo) {
-  if (photo.validity.Empty()) {
+  return UploadValidity(device, transfer, photo.validity);
+}
+
+vk::GpuImage UploadValidity(vk::Device& device, vk::Transfer& transfer, const Image& validity) {
+  if (validity.Empty()) {
     // Every pixel counts: a 1×1 white texture reads 1 at any uv and LOD.
     const std::vector<std::vector<uint8_t>> white{{255}};
     return UploadMips(device, transfer, white, 1, 1, VK_FORMAT_R8_UNORM);
   }
-  const std::vector<Image> levels = BuildValidityPyramid(photo.validity, ReferenceMipCount(photo.image));
-  return UploadMips(device, transfer, PackMips(levels, 1), photo.image.width, photo.image.height,
-                    VK_FORMAT_R8_UNORM);
+  // The validity has the photograph's size, so its mip count is the reference's.
+  const std::vector<Image> levels = BuildValidityPyramid(validity, ReferenceMipCount(validity));
+  return UploadMips(device, transfer, PackMips(levels, 1), validity.width, validity.height, VK_FORMAT_R8_UNORM);
 }
 
 }  // namespace vkr

@@ -40,5 +40,7 @@ vk::GpuImage UploadReference(vk::Device& device, vk::Transfer& transfer, const I
 // The validity texture matching UploadReference(photo.image) mip for mip (R8, 0 or 1), in
 // SHADER_READ_ONLY_OPTIMAL; a 1×1 white texture when photo.validity is empty.
 vk::GpuImage UploadValidity(vk::Device& device, vk::Transfer& transfer, const CameraPhoto& photo);
+// The same from a validity image of the photograph's size (empty: every pixel counts).
+vk::GpuImage UploadValidity(vk::Device& device, vk::Transfer& transfer, const Image& validity);
 
 }  // namespace vkr

@@ -7,21 +7,12 @@
 #include <stdexcept>
 
 namespace vkr {
-namespace {
-
-const Image* Find(const LikelihoodDump& dump, const char* name) {
-  for (const DumpImage& d : dump.images)
-    if (d.name == name) return &d.image;
-  return nullptr;
-}
-
-}  // namespace
-
-std::vector<NodeResidual> NodeResiduals(const Scene& scene, const AtlasLayout& atlas, const LikelihoodDump& dump) {
-  const Image* deviation = Find(dump, "deviation");
-  const Image* noise = Find(dump, "noise");
-  if (!deviation || !noise || deviation->width != noise->width)
-    throw std::invalid_argument("NodeResiduals: the dump has no deviation and noise images");
+std::vector<NodeResidual> NodeResiduals(const Scene& scene, const AtlasLayout& atlas, const Image& deviation_image,
+                                        const Image& noise_image) {
+  const Image* deviation = &deviation_image;
+  const Image* noise = &noise_image;
+  if (deviation->width != noise->width || deviation->height != noise->height)
+    throw std::invalid_argument("NodeResiduals: deviation and noise images of different sizes");
   const int side = deviation->width;
   const double scale = double(side) / atlas.size;  // the dump's level
 

@@ -10,7 +10,7 @@
 
 #include "engine/geometry/Atlas.h"
 #include "engine/scene/Scene.h"
-#include "pipelines/Likelihood.h"
+#include "engine/image/Image.h"
 
 namespace vkr {
 
@@ -28,10 +28,11 @@ struct NodeResidual {
   double OutlierShare() const { return views > 0 ? double(outlier_views) / views : 0.0; }
 };
 
-// One entry per node with a primitive, in scene order, from a surface dump's "deviation" and
-// "noise" images (of any pyramid level: the atlas layout is scaled to their size). Throws
-// std::invalid_argument when the dump has neither (the image-space kind).
-std::vector<NodeResidual> NodeResiduals(const Scene& scene, const AtlasLayout& atlas, const LikelihoodDump& dump);
+// One entry per node with a primitive, in scene order, from a surface evaluation's deviation
+// and noise images (SurfaceDump; of any pyramid level: the atlas layout is scaled to their
+// size). Throws std::invalid_argument when their sizes differ.
+std::vector<NodeResidual> NodeResiduals(const Scene& scene, const AtlasLayout& atlas, const Image& deviation,
+                                        const Image& noise);
 
 // The same over all nodes together.
 NodeResidual TotalResidual(const std::vector<NodeResidual>& nodes);

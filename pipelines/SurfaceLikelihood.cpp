@@ -63,6 +63,8 @@ struct CameraImages {
   vk::GpuImage reference;           // RGBA8, encoded colour, mip m = pyramid level m
   vk::GpuImage validity;            // R8, the reference's mips: 1 = comparable (or 1×1 white)
   std::vector<vk::GpuImage> depth;  // D32F, one per likelihood level
+  Image own_validity;               // the camera's mask and lens frame (empty: all valid), before clutter
+  int width = 0, height = 0;
 };
 
 }  // namespace surface_detail
@@ -107,6 +109,15 @@ struct SurfaceLikelihood::Impl {
         interior_pass(d, s, geometry, gpu_scene) {}
 
   uint32_t LevelAtlas() const { return uint32_t(options.atlas >> level); }
+
+  // Camera i's images, at every level, for the view pass (at creation, and when its
+  // validity changes: between submissions, never while one is in flight).
+  void BindCamera(int i) {
+    const int levels = options.levels;
+    for (int l = 0; l < levels; ++l)
+      view_pass->BindImages(i * levels + l, cameras[size_t(i)].reference.view(), cameras[size_t(i)].depth[size_t(l)].view(),
+                            cameras[size_t(i)].validity.view());
+  }
 
   ViewCamera LevelCamera(const Camera& camera) const {
     ViewCamera v;
@@ -215,6 +226,9 @@ SurfaceLikelihood::SurfaceLikelihood(vk::Device& device, const Scene& scene,
     surface_detail::CameraImages images;
     images.reference = UploadReference(device, m.transfer, image);
     images.validity = UploadValidity(device, m.transfer, photo);
+    images.own_validity = photo.validity;
+    images.width = image.width;
+    images.height = image.height;
     for (int l = 0; l < levels; ++l) {
       // Shadow maps at each level's resolution (any size works: they are looked up in
       // normalised coordinates).
@@ -234,10 +248,7 @@ SurfaceLikelihood::SurfaceLikelihood(vk::Device& device, const Scene& scene,
   for (int i = 0; i < n; ++i) m.view_layers.push_back(vk::CreateLayerView(device, m.views, uint32_t(i)));
   m.view_pass = std::make_unique<ViewTexturePass>(device, m.gpu_scene, n * levels,
                                                   options.weights == ViewWeights::Angle, options.depth_tolerance);
-  for (int i = 0; i < n; ++i)
-    for (int l = 0; l < levels; ++l)
-      m.view_pass->BindImages(i * levels + l, m.cameras[i].reference.view(), m.cameras[i].depth[l].view(),
-                              m.cameras[i].validity.view());
+  for (int i = 0; i < n; ++i) m.BindCamera(i);
   m.composite_pass = std::make_unique<CompositePass>(device, m.views, m.mask, options.max_batch);
   m.photometric = PhotometricCorrection::Identity(n);
   if (options.profile)
@@ -266,6 +277,30 @@ void SurfaceLikelihood::SetPhotometric(const PhotometricCorrection& correction) 
 
 const PhotometricCorrection& SurfaceLikelihood::photometric() const { return impl_->photometric; }
 
+void SurfaceLikelihood::SetClutterMasks(const std::vector<Image>& masks) {
+  Impl& m = *impl_;
+  if (masks.size() != m.cameras.size())
+    throw std::invalid_argument("SurfaceLikelihood::SetClutterMasks: one mask per camera expected");
+  for (size_t i = 0; i < masks.size(); ++i) {
+    surface_detail::CameraImages& camera = m.cameras[i];
+    if (masks[i].width != camera.width || masks[i].height != camera.height)
+      throw std::invalid_argument("SurfaceLikelihood::SetClutterMasks: a mask of another size than its photograph");
+    Image validity = masks[i];
+    if (!camera.own_validity.Empty())
+      for (size_t k = 0; k < validity.rgba.size(); ++k) validity.rgba[k] *= camera.own_validity.rgba[k];
+    camera.validity = UploadValidity(*m.device, m.transfer, validity);
+    m.BindCamera(int(i));
+  }
+}
+
+void SurfaceLikelihood::ClearClutterMasks() {
+  Impl& m = *impl_;
+  for (size_t i = 0; i < m.cameras.size(); ++i) {
+    m.cameras[i].validity = UploadValidity(*m.device, m.transfer, m.cameras[i].own_validity);
+    m.BindCamera(int(i));
+  }
+}
+
 void SurfaceLikelihood::SetLevel(int level) {
   if (level < 0 || level >= impl_->options.levels)
     throw std::out_of_range("SurfaceLikelihood::SetLevel: level " + std::to_string(level) + " of " +
@@ -277,6 +312,7 @@ int SurfaceLikelihood::level() const { return impl_->level; }
 int SurfaceLikelihood::levels() const { return impl_->options.levels; }
 const SurfaceLikelihoodOptions& SurfaceLikelihood::options() const { return impl_->options; }
 const Scene& SurfaceLikelihood::scene() const { return *impl_->scene; }
+const SceneGeometry& SurfaceLikelihood::geometry() const { return impl_->geometry; }
 
 std::vector<Evaluation> SurfaceLikelihood::Evaluate(const std::vector<std::vector<double>>& batch) {
   return impl_->Run(batch, false);
@@ -295,15 +331,17 @@ SurfaceDump SurfaceLikelihood::EvaluateAndDump(const std::vector<double>& psi, E
   };
   SurfaceDump dump;
   std::vector<uint32_t> words(size_t(full) * full * 2);
-  std::vector<float> floats(size_t(full) * full * 4);
+  std::vector<float> floats(size_t(full) * full * 4), gradients(floats.size(), 0.0f);
   for (uint32_t i = 0; i < m.views.info().layers; ++i) {
     m.transfer.ReadImage(m.views, i, VK_IMAGE_LAYOUT_GENERAL, words.data());
     for (size_t k = 0; k < size_t(full) * full; ++k) {
       const ViewTexel t = UnpackViewTexel(words[2 * k], words[2 * k + 1]);
       for (int c = 0; c < 3; ++c) floats[4 * k + size_t(c)] = t.colour[c];
-      floats[4 * k + 3] = t.weight;
+      floats[4 * k + 3] = gradients[4 * k + 3] = t.weight;
+      gradients[4 * k] = t.texture;
     }
     dump.view_textures.push_back(crop(floats));
+    dump.view_gradients.push_back(crop(gradients));
   }
   m.transfer.ReadImage(m.composite_pass->composite(), 0, VK_IMAGE_LAYOUT_GENERAL, floats.data());
   dump.composite = crop(floats);

@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "engine/geometry/SceneGeometry.h"
 #include "engine/image/Image.h"
 #include "engine/scene/Scene.h"
 #include "engine/vk/Device.h"
@@ -46,6 +47,7 @@ struct SurfaceLikelihoodOptions {
 // The textures of one evaluation, for `vkrecon likelihood --dump` (thesis Figs 5.9, 6.5, 7.25).
 struct SurfaceDump {
   std::vector<Image> view_textures;  // per camera: rgb = colour seen (as stored), a = weight
+  std::vector<Image> view_gradients; // per camera: r = |∇I| where it sampled (the noise model's texture), a = weight
   Image composite;                   // rgb = consensus colour (corrected), a = number of views
   Image deviation;                   // r = χ_t, g = d_t, b = interior (1), a = 1 on surface
   Image noise;                       // r = texture share of the noise, g = outlier views, b = views, a = surface
@@ -69,6 +71,11 @@ class SurfaceLikelihood {
   // The per-camera colour correction of the next evaluations.
   void SetPhotometric(const PhotometricCorrection& correction);
   const PhotometricCorrection& photometric() const;
+  // Per camera, pixels (0) the next evaluations ignore on top of the camera's own mask:
+  // what the photograph shows that the scene leaves out (ClutterMasks.h). Each of the
+  // camera's image size.
+  void SetClutterMasks(const std::vector<Image>& masks);
+  void ClearClutterMasks();
   int level() const;
   int levels() const;
 
@@ -84,6 +91,7 @@ class SurfaceLikelihood {
 
   const SurfaceLikelihoodOptions& options() const;
   const Scene& scene() const;
+  const SceneGeometry& geometry() const;  // the atlas layout of every evaluation
 
  private:
   struct Impl;

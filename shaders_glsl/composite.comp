@@ -106,6 +106,10 @@ Scalars CompositeTexel(uvec2 texel) {
         expected += w[i] * pc.outlier * (1.0 - pow(1.0 + 2.0 * a / pc.outlier, -1.5));
         if (e2[i] > pc.outlier) outliers += 1u;
       }
+      // Views that all disagree are one event, not many: the texel is not what the cameras
+      // see (something the scene lacks stands on it). It costs one average view's
+      // saturation beyond the expectation, so hiding it gains no more than that.
+      chi2 = min(chi2, expected + pc.outlier * sw / float(n));
       texture_share = share / sw;
       mine.sum_squares = chi2 * pc.sigma2;
       mine.dof = expected;

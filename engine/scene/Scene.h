@@ -127,6 +127,9 @@ struct LikelihoodSettings {
   // Per-camera colour correction of the surface likelihood: "none", "gain" or "affine"
   // (pipelines/Photometric.h).
   std::string photometric = "affine";
+  // Mask what the photographs show that the scene leaves out, found at the mode a run
+  // settles on (pipelines/ClutterMasks.h).
+  bool clutter = true;
 };
 
 struct SamplerSettings {

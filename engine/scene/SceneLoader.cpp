@@ -65,7 +65,7 @@ Parameter ReadParameter(const Reader& r, const std::string& name, const Json& j)
 
 void ReadLikelihood(const Reader& r, const Json& j, LikelihoodSettings& s) {
   const std::string path = "likelihood";
-  r.CheckObject(j, path, {"kind", "sigma", "weights", "atlas", "levels", "photometric"});
+  r.CheckObject(j, path, {"kind", "sigma", "weights", "atlas", "levels", "photometric", "clutter"});
   if (auto it = j.find("kind"); it != j.end()) {
     s.kind = r.String(*it, "likelihood.kind");
     if (s.kind != "surface" && s.kind != "image")
@@ -95,6 +95,10 @@ void ReadLikelihood(const Reader& r, const Json& j, LikelihoodSettings& s) {
     s.photometric = r.String(*it, "likelihood.photometric");
     if (s.photometric != "none" && s.photometric != "gain" && s.photometric != "affine")
       r.Fail("likelihood.photometric", "unknown photometric model '" + s.photometric + "' (none, gain, affine)");
+  }
+  if (auto it = j.find("clutter"); it != j.end()) {
+    if (!it->is_boolean()) r.Fail("likelihood.clutter", "expected true or false");
+    s.clutter = it->get<bool>();
   }
 }
 

@@ -78,7 +78,7 @@ TEST_F(GpuTest, TexturedModelAndReprojectionsOfTheTruth) {
   EXPECT_EQ(model.meshes.size(), 2u);  // ground and box
   EXPECT_EQ(model.materials[0].pbrMetallicRoughness.baseColorTexture.index, 0);
 
-  const auto strips = WriteReprojections(dir / "reprojections", device(), scene, geometry, truth, composite);
+  const auto strips = WriteReprojections(dir / "reprojections", device(), scene, geometry, truth, composite, {});
   ASSERT_EQ(strips.size(), scene.cameras.size());
   for (const Reprojection& r : strips) {
     const fs::path& file = r.file;

@@ -184,6 +184,10 @@ TexelStatistic ReferenceTexelStatistic(const std::vector<ViewSample>& views, con
     s.expected += w[i] * K * (1.0 - std::pow(1.0 + 2.0 * a / K, -1.5));
     s.outliers += e2[i] > K;
   }
+  // A texel whose views all disagree costs one average view's saturation beyond the expectation.
+  double sum_w = 0.0;
+  for (size_t i = 0; i < n; ++i) sum_w += w[i];
+  s.chi2 = std::min(s.chi2, s.expected + K * sum_w / double(n));
   return s;
 }
 

@@ -1,0 +1,145 @@
+#include "apps/Diagnosis.h"
+
+#include <cmath>
+#include <cstdio>
+#include <string>
+
+namespace vkr::app {
+namespace {
+
+// A model textured with the composite that differs from the photographs by this RMS
+// (0–255 scale) where it covers them explains nothing: camera noise is a few units, JPEG
+// and lighting add ten or twenty. (σ itself cannot tell: it is the noise of prefiltered
+// samples, which averages pixels — images of pure noise of sd 120 give σ ≈ 11.)
+constexpr double kImplausibleRms = 48.0;
+
+// Where noise alone leaves residuals. Under the noise model a view is an outlier (e² > K,
+// 3 sds in every channel) about once in 10⁵; edges, resampling and anti-aliasing of
+// correctly placed surface make it 0.5–3 % on the bundled assets at their truth
+// (docs/LIKELIHOOD.md, "Diagnosis"). A node or photograph beyond these disagrees.
+constexpr double kOutlierShare = 0.08;     // of a node's view samples, or a photograph's covered pixels
+constexpr double kNodeChi2PerDof = 1.6;    // a node's χ² against what noise alone gives
+constexpr double kMinNodeShare = 0.01;     // nodes with fewer compared texels are not judged
+constexpr double kRhat = 1.1;              // chains that disagree more have not converged
+// Clutter masks (ClutterMasks.h) keep only regions of outliers, which noise alone does not
+// make; a few pixels along silhouettes are still masked on the bundled assets at their truth.
+constexpr double kClutterShare = 0.02;
+
+std::string Format(const char* format, double a, double b = 0.0, double c = 0.0) {
+  char buf[320];
+  std::snprintf(buf, sizeof buf, format, a, b, c);
+  return buf;
+}
+
+double ReprojectionRms(const std::vector<Reprojection>& reprojections) {
+  double squares = 0.0;
+  int64_t pixels = 0;
+  for (const Reprojection& r : reprojections) {
+    squares += r.rms_255 * r.rms_255 * double(r.pixels);
+    pixels += r.pixels;
+  }
+  return pixels ? std::sqrt(squares / double(pixels)) : 0.0;
+}
+
+void Worsen(Diagnosis* d, Diagnosis::Verdict v) {
+  if (int(v) > int(d->verdict)) d->verdict = v;
+}
+
+}  // namespace
+
+const char* ToString(Diagnosis::Verdict verdict) {
+  switch (verdict) {
+    case Diagnosis::Verdict::Ok: return "ok";
+    case Diagnosis::Verdict::Unsettled: return "unsettled";
+    case Diagnosis::Verdict::ModelError: return "model_error";
+    case Diagnosis::Verdict::Failed: return "failed";
+  }
+  return "failed";
+}
+
+Diagnosis Diagnose(const Scene& scene, const Evaluation& at_map, double sigma_255, const opt::SamplerSummary& summary,
+                   const std::vector<NodeResidual>& nodes, const std::vector<Reprojection>& reprojections,
+                   const std::vector<double>& clutter_share) {
+  Diagnosis d;
+  std::vector<std::string> failed, model, other;
+  const ReducedScalars& s = at_map.scalars;
+  const double chi2 = Chi2PerDof(s, sigma_255);
+  const double surface = double(s.seen_multi) + s.seen_once + s.seen_none;
+  if (!(s.seen_multi > 0.05 * surface))
+    failed.push_back("less than 5 % of the surface is seen by two cameras at the MAP: the images show little of the scene");
+  if (!(chi2 < 4.0))
+    failed.push_back(Format("the views disagree far beyond the noise at the MAP (chi2 per dof %.2f with sigma %.1f): "
+                            "the model does not explain the images",
+                            chi2, sigma_255));
+  const double rms = ReprojectionRms(reprojections);
+  if (!(rms < kImplausibleRms))
+    failed.push_back(Format("the model textured with the composite differs from the photographs by RMS %.1f (0-255) "
+                            "where it covers them, far beyond camera noise: the model does not explain the images",
+                            rms));
+
+  // Model error: which nodes and photographs disagree beyond the noise, and how much.
+  const NodeResidual total = TotalResidual(nodes);
+  nlohmann::json node_json = nlohmann::json::array();
+  for (const NodeResidual& n : nodes) {
+    const bool judged = n.compared >= kMinNodeShare * total.compared && n.compared > 0;
+    const bool bad = judged && (n.OutlierShare() > kOutlierShare || n.Chi2PerDof() > kNodeChi2PerDof);
+    node_json.push_back({{"node", n.node}, {"texels", n.texels}, {"compared", n.compared},
+                         {"seen_once", n.seen_once}, {"seen_none", n.seen_none}, {"chi2_per_dof", n.Chi2PerDof()},
+                         {"outlier_share", n.OutlierShare()}, {"disagrees", bad}});
+    if (bad)
+      model.push_back(n.node + Format(": %.0f %% of its views are outliers and its chi2 per dof is %.2f (noise alone: "
+                                      "under 1 %% and 1): the scene leaves out or misplaces something there",
+                                      100.0 * n.OutlierShare(), n.Chi2PerDof()));
+  }
+  nlohmann::json camera_json = nlohmann::json::array();
+  for (size_t i = 0; i < reprojections.size(); ++i) {
+    const Reprojection& r = reprojections[i];
+    const double clutter = i < clutter_share.size() ? clutter_share[i] : 0.0;
+    const bool bad = r.outlier_share > kOutlierShare;
+    camera_json.push_back({{"camera", r.camera}, {"rms_255", r.rms_255}, {"pixels", r.pixels},
+                           {"outlier_share", r.outlier_share}, {"clutter_share", clutter},
+                           {"residual_image", r.residual_file.filename().string()}, {"disagrees", bad}});
+    if (clutter > kClutterShare)
+      model.push_back("photograph " + r.camera +
+                      Format(": %.0f %% of the pixels the model covers show something the scene leaves out (masked "
+                             "as clutter, see clutter/",
+                             100.0 * clutter) +
+                      r.camera + ".png)");
+    if (bad)
+      model.push_back("photograph " + r.camera +
+                      Format(": %.0f %% of the pixels the model covers differ beyond 3 noise sds", 100.0 * r.outlier_share) +
+                      " (reprojections/" + r.residual_file.filename().string() + ")");
+  }
+  if (total.views > 0 && total.OutlierShare() > kOutlierShare)
+    model.insert(model.begin(), Format("%.0f %% of all view samples are outliers of the robust composite (noise alone: "
+                                       "under 1 %%): a large share of the surface disagrees",
+                                       100.0 * total.OutlierShare()));
+
+  for (size_t i = 0; i < summary.parameters.size() && i < scene.parameters.size(); ++i) {
+    const opt::ParameterSummary& p = summary.parameters[i];
+    const Prior& prior = scene.parameters[i].prior;
+    const double prior_sd = prior.kind == Prior::Kind::Uniform ? (prior.b - prior.a) / std::sqrt(12.0) : prior.b;
+    if (p.sd > 0.5 * prior_sd)
+      other.push_back(p.name + Format(" is barely constrained by the images (posterior sd %g against the prior's %g)",
+                                      p.sd, prior_sd));
+    if (p.rhat > kRhat) {
+      other.push_back(p.name + Format(": the chains disagree (R-hat %.3f); run longer", p.rhat));
+      Worsen(&d, Diagnosis::Verdict::Unsettled);
+    }
+  }
+  if (!model.empty()) Worsen(&d, Diagnosis::Verdict::ModelError);
+  if (!failed.empty()) Worsen(&d, Diagnosis::Verdict::Failed);
+  for (const auto* list : {&failed, &model, &other}) d.notes.insert(d.notes.end(), list->begin(), list->end());
+  d.json = {{"ok", d.ok()},
+            {"verdict", ToString(d.verdict)},
+            {"notes", d.notes},
+            {"chi2_per_dof", s.dof > 0 ? chi2 : 0.0},
+            {"reprojection_rms", rms},
+            {"outlier_share", total.OutlierShare()},
+            {"seen_once_share", surface > 0 ? s.seen_once / surface : 0.0},
+            {"nodes", node_json},
+            {"cameras", camera_json}};
+  return d;
+}
+
+}  // namespace vkr::app
