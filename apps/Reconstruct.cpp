@@ -35,15 +35,15 @@ std::atomic<bool> g_stop{false};
 // noise model there (NoiseCalibration.h).
 class LikelihoodTarget : public opt::Target {
  public:
-  // `clutter_dir`: where the clutter masks found at the mode are kept (they are images, so
-  // the calibration that checkpoints carry names their files).
+  // `output_dir`: where the clutter masks found at the mode are kept, in clutter/ (they are
+  // images, so the calibration that checkpoints carry names their files, relative to it).
   LikelihoodTarget(Likelihood& likelihood, const Scene& scene, bool estimate_sigma, bool mask_clutter,
-                   fs::path clutter_dir)
+                   fs::path output_dir)
       : likelihood_(likelihood),
         scene_(scene),
         estimate_sigma_(estimate_sigma),
         mask_clutter_(mask_clutter),
-        clutter_dir_(std::move(clutter_dir)) {}
+        output_dir_(std::move(output_dir)) {}
   int max_batch() const override { return likelihood_.max_batch(); }
   int levels() const override { return likelihood_.levels(); }
   void SetLevel(int level) override { likelihood_.SetLevel(level); }
@@ -57,12 +57,12 @@ class LikelihoodTarget : public opt::Target {
     nlohmann::json json = ToJson(calibration_);
     const ClutterMasks& clutter = calibration_.clutter;
     if (!clutter.masks.empty()) {
-      fs::create_directories(clutter_dir_);
+      fs::create_directories(output_dir_ / "clutter");
       nlohmann::json files = nlohmann::json::array();
       for (size_t i = 0; i < clutter.masks.size(); ++i) {
-        const fs::path file = clutter_dir_ / (scene_.cameras[i].name + ".png");
-        WritePng(file, clutter.masks[i]);
-        files.push_back(file.string());
+        const std::string file = "clutter/" + scene_.cameras[i].name + ".png";
+        WritePng(output_dir_ / file, clutter.masks[i]);
+        files.push_back(file);
       }
       json["clutter"] = {{"files", files}, {"share", clutter.share}};
     }
@@ -75,7 +75,8 @@ class LikelihoodTarget : public opt::Target {
     likelihood_.RestorePhotometric(calibration_.photometric);
     if (calibration.contains("clutter")) {
       std::vector<Image> masks;
-      for (const auto& file : calibration["clutter"]["files"]) masks.push_back(LoadImage(file.get<std::string>()));
+      for (const auto& file : calibration["clutter"]["files"])
+        masks.push_back(LoadImage(output_dir_ / file.get<std::string>()));
       likelihood_.SetClutterMasks(masks);
       calibration_.clutter.masks = std::move(masks);
       calibration_.clutter.share = calibration["clutter"]["share"].get<std::vector<double>>();
@@ -86,7 +87,7 @@ class LikelihoodTarget : public opt::Target {
   Likelihood& likelihood_;
   const Scene& scene_;
   bool estimate_sigma_, mask_clutter_;
-  fs::path clutter_dir_;
+  fs::path output_dir_;
   NoiseCalibration calibration_;  // κ = 1 until calibrated
 };
 
@@ -215,7 +216,7 @@ ReconstructResult Reconstruct(const ReconstructOptions& options, vk::Device& dev
   setup.max_batch = scene.sampler.batch;
   std::unique_ptr<Likelihood> likelihood = MakeLikelihood(device, scene, setup);
   LikelihoodTarget target(*likelihood, scene, scene.likelihood.sigma_auto, scene.likelihood.clutter,
-                          options.output_dir / "clutter");
+                          options.output_dir);
   // The photographs' exposures differ: a first colour correction at the initial parameters,
   // on the coarsest level, where misregistration matters least (refitted at the mode). Done
   // again, identically, when a run resumes before its first calibration.
@@ -305,7 +306,8 @@ ReconstructResult Reconstruct(const ReconstructOptions& options, vk::Device& dev
   std::vector<Image> clutter;
   std::vector<double> clutter_share;
   if (summary.calibration.is_object() && summary.calibration.contains("clutter")) {
-    for (const auto& file : summary.calibration["clutter"]["files"]) clutter.push_back(LoadImage(file.get<std::string>()));
+    for (const auto& file : summary.calibration["clutter"]["files"])
+      clutter.push_back(LoadImage(options.output_dir / file.get<std::string>()));
     clutter_share = summary.calibration["clutter"]["share"].get<std::vector<double>>();
     outputs.SetClutterMasks(clutter);
   }

@@ -15,7 +15,7 @@ namespace {
 Image OutlierAtlas(const SurfaceDump& dump, int i, const LikelihoodModel& model, const PhotometricCorrection& photometric,
                    double threshold) {
   const Image& view = dump.view_textures[size_t(i)];
-  const Image& gradient = dump.view_gradients[size_t(i)];
+  const Image& noise = dump.view_noise[size_t(i)];
   const auto& gain = photometric.gain[size_t(i)];
   const auto& offset = photometric.offset[size_t(i)];
   const double mean_gain = (gain[0] + gain[1] + gain[2]) / 3.0;
@@ -28,14 +28,15 @@ Image OutlierAtlas(const SurfaceDump& dump, int i, const LikelihoodModel& model,
       const float* c = view.At(x, y);
       const float* mean = dump.composite.At(x, y);
       if (!(c[3] > 0.0f) || mean[3] < 2.0f) continue;  // not seen by this view, or by fewer than two
-      const double g = mean_gain * gradient.At(x, y)[0];
+      const double g = mean_gain * noise.At(x, y)[0];
+      const double mass = std::max(1.0, double(noise.At(x, y)[1]));
       double e2 = 0.0;
       for (int k = 0; k < 3; ++k) {
         const double d = gain[size_t(k)] * c[k] + offset[size_t(k)] - mean[k];
         e2 += d * d;
       }
-      e2 /= sigma2 + delta2 * g * g;
-      o[0] = e2 > threshold ? 1.0f : 0.0f;
+      e2 /= sigma2 / mass + delta2 * g * g;
+      o[0] = e2 > threshold * mass ? 1.0f : 0.0f;  // composite.comp's outlier rule
       o[1] = 1.0f;
     }
   return out;
@@ -72,7 +73,7 @@ ClutterMasks FindClutter(vk::Device& device, SurfaceLikelihood& likelihood, cons
   const SurfaceDump dump = likelihood.EvaluateAndDump(psi);
   likelihood.SetLevel(level);
   const int n = int(scene.cameras.size());
-  if (int(dump.view_textures.size()) != n || int(dump.view_gradients.size()) != n || photometric.cameras() != n)
+  if (int(dump.view_textures.size()) != n || int(dump.view_noise.size()) != n || photometric.cameras() != n)
     throw std::invalid_argument("FindClutter: a dump and a correction for every camera are needed");
   if (dump.composite.width != geometry.atlas.size)
     throw std::invalid_argument("FindClutter: the dump must be of level 0");

@@ -331,17 +331,18 @@ SurfaceDump SurfaceLikelihood::EvaluateAndDump(const std::vector<double>& psi, E
   };
   SurfaceDump dump;
   std::vector<uint32_t> words(size_t(full) * full * 2);
-  std::vector<float> floats(size_t(full) * full * 4), gradients(floats.size(), 0.0f);
+  std::vector<float> floats(size_t(full) * full * 4), noise(floats.size(), 0.0f);
   for (uint32_t i = 0; i < m.views.info().layers; ++i) {
     m.transfer.ReadImage(m.views, i, VK_IMAGE_LAYOUT_GENERAL, words.data());
     for (size_t k = 0; k < size_t(full) * full; ++k) {
       const ViewTexel t = UnpackViewTexel(words[2 * k], words[2 * k + 1]);
       for (int c = 0; c < 3; ++c) floats[4 * k + size_t(c)] = t.colour[c];
-      floats[4 * k + 3] = gradients[4 * k + 3] = t.weight;
-      gradients[4 * k] = t.texture;
+      floats[4 * k + 3] = noise[4 * k + 3] = t.weight;
+      noise[4 * k] = t.texture;
+      noise[4 * k + 1] = t.mass;
     }
     dump.view_textures.push_back(crop(floats));
-    dump.view_gradients.push_back(crop(gradients));
+    dump.view_noise.push_back(crop(noise));
   }
   m.transfer.ReadImage(m.composite_pass->composite(), 0, VK_IMAGE_LAYOUT_GENERAL, floats.data());
   dump.composite = crop(floats);

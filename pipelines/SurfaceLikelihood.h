@@ -47,7 +47,9 @@ struct SurfaceLikelihoodOptions {
 // The textures of one evaluation, for `vkrecon likelihood --dump` (thesis Figs 5.9, 6.5, 7.25).
 struct SurfaceDump {
   std::vector<Image> view_textures;  // per camera: rgb = colour seen (as stored), a = weight
-  std::vector<Image> view_gradients; // per camera: r = |∇I| where it sampled (the noise model's texture), a = weight
+  // Per camera, the rest of what the composite reads (ViewTexel.h): r = |∇I| where it sampled
+  // (the noise model's texture), g = the sample's pixel mass, a = weight.
+  std::vector<Image> view_noise;
   Image composite;                   // rgb = consensus colour (corrected), a = number of views
   Image deviation;                   // r = χ_t, g = d_t, b = interior (1), a = 1 on surface
   Image noise;                       // r = texture share of the noise, g = outlier views, b = views, a = surface

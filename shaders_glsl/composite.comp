@@ -30,7 +30,7 @@ layout(push_constant) uniform Push {
   uint write_images;    // 1: also write composite_out, deviation_out and noise_out (dumps)
   float sigma2;         // σ² of the noise model, [0,1] colour scale
   float delta2;         // δ² (level pixels²): the noise grows by δ²|∇I|² where the image is textured
-  float outlier;        // K: the χ² (3 channels) at which a view's loss saturates
+  float outlier;        // K: per pixel of evidence, the χ² (3 channels) at which a view's loss saturates
 } pc;
 
 // Texels per invocation, a column (CompositePass.cpp mirrors it as kCompositeRows): fewer
@@ -49,8 +49,8 @@ Scalars CompositeTexel(uvec2 texel) {
     mine.interior = 1u;
   } else if (m == 1u) {
     vec3 c[kViews];
-    float w[kViews], v[kViews], omega[kViews], e2[kViews];
-    float sw = 0.0, share = 0.0;
+    float w[kViews], v[kViews], k[kViews], omega[kViews], e2[kViews];
+    float sw = 0.0, swk = 0.0, share = 0.0;
     for (uint i = 0u; i < kViews; ++i) {
       const uvec2 t = imageLoad(views, ivec3(texel, i)).xy;
       w[i] = ViewWeight(t);
@@ -58,11 +58,16 @@ Scalars CompositeTexel(uvec2 texel) {
       c[i] = gain.xyz * ViewColour(t) + offset.xyz;
       const float g = gain.w * ViewTexture(t);
       const float textured = pc.delta2 * g * g;
-      v[i] = pc.sigma2 + textured;
+      // A sample averaging m pixels carries 1/m of their noise, and m pixels of evidence:
+      // its loss saturates at m·K.
+      const float mass = max(ViewMass(t), 1.0);
+      v[i] = pc.sigma2 / mass + textured;
+      k[i] = pc.outlier * mass;
       omega[i] = 1.0;
       if (w[i] > 0.0) {
         n += 1u;
         sw += w[i];
+        swk += w[i] * k[i];
         share += w[i] * textured / v[i];
       }
     }
@@ -84,12 +89,12 @@ Scalars CompositeTexel(uvec2 texel) {
         for (uint i = 0u; i < kViews; ++i) {
           const vec3 d = c[i] - mean;
           e2[i] = dot(d, d) / v[i];
-          if (w[i] > 0.0) closest = min(closest, e2[i]);
+          if (w[i] > 0.0) closest = min(closest, e2[i] / k[i]);
         }
         if (round < kRounds)
-          for (uint i = 0u; i < kViews; ++i) omega[i] = exp(-(e2[i] - closest) / pc.outlier);
+          for (uint i = 0u; i < kViews; ++i) omega[i] = exp(closest - e2[i] / k[i]);
       }
-      // The loss, Σ w_i K (1 − e^(−e²_i/K)), and its expectation under the noise model: a
+      // The loss, Σ w_i K_i (1 − e^(−e²_i/K_i)), and its expectation under the noise model: a
       // view's residual from the (plain) precision-weighted mean has variance a_i·v_i per
       // channel, and E[K(1 − e^(−X/K))] = K(1 − (1 + 2a/K)^(−3/2)) for X = a·χ²₃.
       float sp = 0.0, spw = 0.0;
@@ -102,14 +107,14 @@ Scalars CompositeTexel(uvec2 texel) {
         if (!(w[i] > 0.0)) continue;
         const float p = w[i] / v[i];
         const float a = max(1.0 - 2.0 * p / sp + spw / (v[i] * sp * sp), 0.0);
-        chi2 += w[i] * pc.outlier * (1.0 - exp(-e2[i] / pc.outlier));
-        expected += w[i] * pc.outlier * (1.0 - pow(1.0 + 2.0 * a / pc.outlier, -1.5));
-        if (e2[i] > pc.outlier) outliers += 1u;
+        chi2 += w[i] * k[i] * (1.0 - exp(-e2[i] / k[i]));
+        expected += w[i] * k[i] * (1.0 - pow(1.0 + 2.0 * a / k[i], -1.5));
+        if (e2[i] > k[i]) outliers += 1u;
       }
       // Views that all disagree are one event, not many: the texel is not what the cameras
       // see (something the scene lacks stands on it). It costs one average view's
       // saturation beyond the expectation, so hiding it gains no more than that.
-      chi2 = min(chi2, expected + pc.outlier * sw / float(n));
+      chi2 = min(chi2, expected + swk / float(n));
       texture_share = share / sw;
       mine.sum_squares = chi2 * pc.sigma2;
       mine.dof = expected;

@@ -54,5 +54,7 @@ void main() {
   // Alpha of the reference holds |∇I| (Pyramid.h StoreGradientInAlpha): the composite's
   // noise model for this view grows with it (Evaluation.h).
   const vec4 sampled = textureLod(reference, uv, lod);
-  view = PackViewTexel(sampled.rgb, weight, sampled.a);
+  // The sample averages max(1, footprint) pixels of its level, each 4^level of full
+  // resolution: its noise is that many times smaller, and that many pixels are its evidence.
+  view = PackViewTexel(sampled.rgb, sampled.a, weight, max(1.0, footprint) * exp2(2.0 * pc.level));
 }

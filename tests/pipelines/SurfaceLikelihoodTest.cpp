@@ -267,14 +267,15 @@ TEST_F(SurfaceLikelihoodVsReference, PerTexelAndPerViewDataAgree) {
       // interpolated positions [max 0.002, mean 1e-4].
       EXPECT_LE(max_dw, 0.01);
       EXPECT_LE(sum_dw / std::max(both, 1), 0.001);
-      // RGBA8 mips of the float pyramid (±0.5/255 each), 8-bit filter weights, fp16 storage
-      // [max 1.7/255, mean 0.35/255].
+      // RGBA8 mips of the float pyramid (±0.5/255 each), 8-bit filter weights, 8-bit storage
+      // of the view colours [max 1.7/255, mean 0.35/255].
       EXPECT_LE(max_dc, 3.0);
       EXPECT_LE(sum_dc / both, 0.6);
       // Where both see the same views, the deviations agree up to those colour errors,
       // which add variance: at the noise-free truth (χ² per dof ≈ 0.1) they are a large part
-      // of it [GPU +10.5 % at the truth, +2 % on the long bar].
-      EXPECT_NEAR(chi2_gpu, chi2_ref, 0.15 * chi2_ref);
+      // of it, the more where a sample averages many pixels and so carries little noise
+      // [GPU +18 % at the truth, +7 % at level 1, +1.6 % on the long bar].
+      EXPECT_NEAR(chi2_gpu, chi2_ref, 0.25 * chi2_ref);
     }
 }
 

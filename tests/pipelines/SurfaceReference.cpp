@@ -147,14 +147,16 @@ TexelStatistic ReferenceTexelStatistic(const std::vector<ViewSample>& views, con
   const double sigma = model.sigma / 255.0, K = model.outlier_chi2;
   const size_t n = views.size();
   std::vector<Eigen::Vector3d> c(n);
-  std::vector<double> w(n), v(n), omega(n, 1.0), e2(n);
+  std::vector<double> w(n), v(n), k(n), omega(n, 1.0), e2(n);
   for (size_t i = 0; i < n; ++i) {
     const auto& gain = photometric.gain[size_t(views[i].camera)];
     const auto& offset = photometric.offset[size_t(views[i].camera)];
-    for (int k = 0; k < 3; ++k) c[i][k] = gain[size_t(k)] * views[i].colour[k] + offset[size_t(k)];
+    for (int ch = 0; ch < 3; ++ch) c[i][ch] = gain[size_t(ch)] * views[i].colour[ch] + offset[size_t(ch)];
     const double g = (gain[0] + gain[1] + gain[2]) / 3.0 * views[i].texture;
+    const double mass = std::max(views[i].mass, 1.0);
     w[i] = views[i].weight;
-    v[i] = sigma * sigma + model.position_sd * model.position_sd * g * g;
+    v[i] = sigma * sigma / mass + model.position_sd * model.position_sd * g * g;
+    k[i] = K * mass;  // a view's loss saturates at K per pixel of evidence
   }
   TexelStatistic s;
   // Consensus: precision-weighted mean reweighted by Welsch weights relative to the closest
@@ -169,9 +171,12 @@ TexelStatistic ReferenceTexelStatistic(const std::vector<ViewSample>& views, con
     }
     s.mean = spc / sp;
     double closest = INFINITY;
-    for (size_t i = 0; i < n; ++i) closest = std::min(closest, e2[i] = (c[i] - s.mean).squaredNorm() / v[i]);
+    for (size_t i = 0; i < n; ++i) {
+      e2[i] = (c[i] - s.mean).squaredNorm() / v[i];
+      closest = std::min(closest, e2[i] / k[i]);
+    }
     if (round < 3)
-      for (size_t i = 0; i < n; ++i) omega[i] = std::exp(-(e2[i] - closest) / K);
+      for (size_t i = 0; i < n; ++i) omega[i] = std::exp(closest - e2[i] / k[i]);
   }
   // Loss and its expectation: view i's residual from the plain precision-weighted mean has
   // variance a_i·v_i per channel under the noise model.
@@ -180,14 +185,14 @@ TexelStatistic ReferenceTexelStatistic(const std::vector<ViewSample>& views, con
   for (size_t i = 0; i < n; ++i) {
     const double p = w[i] / v[i];
     const double a = std::max(1.0 - 2.0 * p / sp + spw / (v[i] * sp * sp), 0.0);
-    s.chi2 += w[i] * K * (1.0 - std::exp(-e2[i] / K));
-    s.expected += w[i] * K * (1.0 - std::pow(1.0 + 2.0 * a / K, -1.5));
-    s.outliers += e2[i] > K;
+    s.chi2 += w[i] * k[i] * (1.0 - std::exp(-e2[i] / k[i]));
+    s.expected += w[i] * k[i] * (1.0 - std::pow(1.0 + 2.0 * a / k[i], -1.5));
+    s.outliers += e2[i] > k[i];
   }
   // A texel whose views all disagree costs one average view's saturation beyond the expectation.
-  double sum_w = 0.0;
-  for (size_t i = 0; i < n; ++i) sum_w += w[i];
-  s.chi2 = std::min(s.chi2, s.expected + K * sum_w / double(n));
+  double sum_wk = 0.0;
+  for (size_t i = 0; i < n; ++i) sum_wk += w[i] * k[i];
+  s.chi2 = std::min(s.chi2, s.expected + sum_wk / double(n));
   return s;
 }
 
@@ -347,8 +352,10 @@ ReducedScalars ReferenceSurfaceScalars(const Scene& scene, const SceneGeometry& 
         out[2] = rgba[2];
         out[3] = float(w);
       }
-      // Alpha holds |∇I| (StoreGradientInAlpha), the noise model's texture.
-      samples[size_t(seen)] = {Eigen::Vector3d(rgba[0], rgba[1], rgba[2]), w, double(rgba[3]), int(c)};
+      // Alpha holds |∇I| (StoreGradientInAlpha), the noise model's texture. The sample
+      // averages max(1, footprint) level pixels of 4^level full-resolution ones each.
+      samples[size_t(seen)] = {Eigen::Vector3d(rgba[0], rgba[1], rgba[2]), w, double(rgba[3]), int(c),
+                               std::max(1.0, footprint) * std::ldexp(1.0, 2 * level)};
       ++seen;
     }
 

@@ -48,6 +48,7 @@ struct ViewSample {
   double weight = 0.0;     // w_i > 0
   double texture = 0.0;    // |∇I| where it was sampled
   int camera = 0;          // for the photometric correction
+  double mass = 1.0;       // full-resolution pixels the sample averages (≥ 1)
 };
 
 // The composite's statistic of one texel seen by ≥ 2 views (Evaluation.h), in double

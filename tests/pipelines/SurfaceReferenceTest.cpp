@@ -321,7 +321,8 @@ TEST(ReferenceTexelStatistic, ItsExpectationIsWhatNoiseAloneGives) {
         v.camera = i;
         v.weight = 0.3 + 0.7 * (i + 1) / n;
         v.texture = 0.04 * i;  // up to 4 %/pixel: the texture term matters
-        const double sd = std::sqrt(std::pow(model.sigma / 255.0, 2) + std::pow(model.position_sd * v.texture, 2));
+        v.mass = 1.0 + 3.0 * i;  // and samples that average several pixels
+        const double sd = std::sqrt(std::pow(model.sigma / 255.0, 2) / v.mass + std::pow(model.position_sd * v.texture, 2));
         for (int k = 0; k < 3; ++k) v.colour[k] = 0.5 + sd * unit(rng);
         views.push_back(v);
       }
