@@ -133,7 +133,7 @@ double MeasureReduction(vk::Device& device, uint32_t side, int repeats) {
   constexpr uint32_t kRows = 16;  // bench_reduce.comp's texels per invocation
   const uint32_t groups_x = (side + device.subgroup_size() - 1) / device.subgroup_size();
   const uint32_t groups_y = (side + kRows - 1) / kRows;
-  constexpr VkDeviceSize kScalarsBytes = 32;  // struct Scalars of scalars.glsl
+  constexpr VkDeviceSize kScalarsBytes = 48;  // struct Scalars of scalars.glsl
   vk::Buffer partials(device, VkDeviceSize(groups_x) * groups_y * kScalarsBytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
                       vk::MemoryUse::Device);
   const std::vector<VkDescriptorSetLayoutBinding> bindings = {

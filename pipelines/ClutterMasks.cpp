@@ -36,7 +36,7 @@ Image OutlierAtlas(const SurfaceDump& dump, int i, const LikelihoodModel& model,
         e2 += d * d;
       }
       e2 /= sigma2 / mass + delta2 * g * g;
-      o[0] = e2 > threshold * mass ? 1.0f : 0.0f;  // composite.comp's outlier rule
+      o[0] = e2 > threshold ? 1.0f : 0.0f;  // composite.comp's outlier rule
       o[1] = 1.0f;
     }
   return out;

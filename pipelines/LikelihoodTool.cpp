@@ -117,6 +117,7 @@ struct Session {
   Scene scene;
   std::vector<double> at;
   std::unique_ptr<Likelihood> likelihood;
+  nlohmann::json photometric;  // the colour correction fitted at `at` (null: none)
 };
 
 // Checks what can be checked before the (costly) likelihood is built.
@@ -144,7 +145,7 @@ void Build(Session& s, vk::Device& device, const LikelihoodToolOptions& options,
   s.likelihood->SetLevel(options.level);
   // Exposure and white balance differ between photographs: fit the colour correction once,
   // at the hypothesis asked about, and keep it for every evaluation (a sweep's too).
-  s.likelihood->CalibratePhotometric(s.at);
+  s.photometric = s.likelihood->CalibratePhotometric(s.at);
 }
 
 std::string Number(double x) {
@@ -198,7 +199,12 @@ void WriteEvaluationJson(const fs::path& file, const LikelihoodToolOptions& opti
   j["seen_once"] = e.scalars.seen_once;
   j["seen_none"] = e.scalars.seen_none;
   j["interior"] = e.scalars.interior;
+  j["masked"] = e.scalars.masked;
+  j["views"] = e.scalars.views;
+  j["outlier_views"] = e.scalars.outlier_views;
+  j["unverified"] = e.scalars.unverified;
   j["chi2_per_dof"] = std::isfinite(r.chi2_per_dof) ? nlohmann::ordered_json(r.chi2_per_dof) : nullptr;
+  j["photometric"] = r.photometric;
   std::ofstream out(file, std::ios::binary);
   if (!out || !(out << j.dump(2) << "\n") || !out.flush())
     throw std::runtime_error("cannot write " + file.string());
@@ -247,6 +253,7 @@ LikelihoodReport EvaluateAt(const LikelihoodToolOptions& options, vk::Device& de
   r.level = s.likelihood->level();
   r.sigma = s.likelihood->model().sigma;
   r.chi2_correction = s.likelihood->model().chi2_correction;
+  r.photometric = s.photometric;
   if (options.dump_dir) {
     const LikelihoodDump dump = s.likelihood->EvaluateAndDump(s.at, &r.evaluation);
     r.dump_files = WriteDump(dump, *options.dump_dir);

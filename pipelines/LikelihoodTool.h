@@ -65,6 +65,7 @@ struct LikelihoodReport {
   // when no texel is seen twice.
   double chi2_per_dof = 0.0;
   std::vector<std::filesystem::path> dump_files;  // with dump_dir
+  nlohmann::json photometric;  // the per-camera colour correction fitted at the hypothesis (null: none)
   std::optional<PassProfile> profile;             // with profile
 };
 

@@ -9,10 +9,10 @@ namespace {
 
 // Mirrors `Scalars` in shaders_glsl/scalars.glsl (std430).
 struct GpuScalars {
-  float sum_squares, dof;
-  uint32_t seen_multi, seen_once, seen_none, interior, views, outlier_views;
+  float sum_squares, dof, unverified, pad_float;
+  uint32_t seen_multi, seen_once, seen_none, interior, views, outlier_views, masked, pad1;
 };
-static_assert(sizeof(GpuScalars) == 32);
+static_assert(sizeof(GpuScalars) == 48);
 
 struct ReducePush {
   uint32_t partial_stride, partial_count;
@@ -57,12 +57,14 @@ ReducedScalars ReducePass::Result(int slot) const {
   ReducedScalars r;
   r.sum_squares = g.sum_squares;
   r.dof = g.dof;
+  r.unverified = g.unverified;
   r.seen_multi = g.seen_multi;
   r.seen_once = g.seen_once;
   r.seen_none = g.seen_none;
   r.interior = g.interior;
   r.views = g.views;
   r.outlier_views = g.outlier_views;
+  r.masked = g.masked;
   return r;
 }
 

@@ -33,7 +33,8 @@ std::vector<NodeResidual> NodeResiduals(const Scene& scene, const AtlasLayout& a
         if (d[3] == 0.0f || d[2] != 0.0f) continue;  // off the surface, or interior
         ++r.texels;
         const int views = int(std::lround(n[2]));
-        if (views == 0) ++r.seen_none;
+        if (views < 2 && n[3] > 0.5f) ++r.masked;
+        else if (views == 0) ++r.seen_none;
         else if (views == 1) ++r.seen_once;
         else {
           ++r.compared;
@@ -51,6 +52,7 @@ NodeResidual TotalResidual(const std::vector<NodeResidual>& nodes) {
   NodeResidual t{"all"};
   for (const NodeResidual& r : nodes) {
     t.texels += r.texels, t.compared += r.compared, t.seen_once += r.seen_once, t.seen_none += r.seen_none;
+    t.masked += r.masked;
     t.chi2 += r.chi2, t.expected += r.expected, t.views += r.views, t.outlier_views += r.outlier_views;
   }
   return t;
@@ -60,11 +62,13 @@ void WriteNodeResidualsCsv(const std::filesystem::path& file, const std::vector<
   std::ofstream out(file);
   out.imbue(std::locale::classic());
   out.precision(10);
-  out << "node,texels,compared,seen_once,seen_none,chi2,expected,chi2_per_dof,views,outlier_views,outlier_share\n";
+  out << "node,texels,compared,seen_once,seen_none,masked,chi2,expected,chi2_per_dof,views,outlier_views,"
+         "outlier_share\n";
   std::vector<NodeResidual> rows = nodes;
   rows.push_back(TotalResidual(nodes));
   for (const NodeResidual& r : rows)
     out << r.node << ',' << r.texels << ',' << r.compared << ',' << r.seen_once << ',' << r.seen_none << ','
+        << r.masked << ','
         << r.chi2 << ',' << r.expected << ',' << r.Chi2PerDof() << ',' << r.views << ',' << r.outlier_views << ','
         << r.OutlierShare() << '\n';
   if (!out) throw std::runtime_error("cannot write " + file.string());

@@ -19,6 +19,7 @@ struct NodeResidual {
   int texels = 0;          // exterior surface texels of the node's charts
   int compared = 0;        // of those, seen by ≥ 2 views
   int seen_once = 0, seen_none = 0;
+  int masked = 0;          // fewer than two views compare it only because of masks
   double chi2 = 0.0;       // Σ χ_t over the compared texels
   double expected = 0.0;   // Σ d_t: what noise alone gives
   int views = 0;           // view samples of the compared texels
@@ -37,7 +38,7 @@ std::vector<NodeResidual> NodeResiduals(const Scene& scene, const AtlasLayout& a
 // The same over all nodes together.
 NodeResidual TotalResidual(const std::vector<NodeResidual>& nodes);
 
-// CSV, classic locale: node,texels,compared,seen_once,seen_none,chi2,expected,chi2_per_dof,
+// CSV, classic locale: node,texels,compared,seen_once,seen_none,masked,chi2,expected,chi2_per_dof,
 // views,outlier_views,outlier_share; one row per node, then "all".
 void WriteNodeResidualsCsv(const std::filesystem::path& file, const std::vector<NodeResidual>& nodes);
 

@@ -14,11 +14,11 @@ layout(std430, set = 0, binding = 0) writeonly buffer Partials { Scalars partial
 const uint kRows = 16u;  // as composite.comp
 
 void main() {
-  Scalars mine = Scalars(0.0, 0.0, 0u, 0u, 0u, 0u, 0u, 0u);
+  Scalars mine = ZeroScalars();
   const uint x = gl_GlobalInvocationID.x;
   for (uint r = 0u; r < kRows; ++r) {
     const uint y = gl_WorkGroupID.y * kRows + r;
-    mine = AddScalars(mine, Scalars(float(x & 7u), float(y & 3u), x & 1u, y & 1u, 0u, 0u, 0u, 0u));
+    mine = AddScalars(mine, Scalars(float(x & 7u), float(y & 3u), 0.0, 0.0, x & 1u, y & 1u, 0u, 0u, 0u, 0u, 0u, 0u));
   }
   const Scalars total = ReduceSubgroup(mine);
   if (subgroupElect()) partials[gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x] = total;

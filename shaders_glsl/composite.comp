@@ -30,7 +30,7 @@ layout(push_constant) uniform Push {
   uint write_images;    // 1: also write composite_out, deviation_out and noise_out (dumps)
   float sigma2;         // σ² of the noise model, [0,1] colour scale
   float delta2;         // δ² (level pixels²): the noise grows by δ²|∇I|² where the image is textured
-  float outlier;        // K: per pixel of evidence, the χ² (3 channels) at which a view's loss saturates
+  float outlier;        // K: the χ² (3 channels) at which a view's loss saturates
 } pc;
 
 // Texels per invocation, a column (CompositePass.cpp mirrors it as kCompositeRows): fewer
@@ -40,10 +40,10 @@ const uint kRows = 16u;
 const uint kRounds = 3u;
 
 Scalars CompositeTexel(uvec2 texel) {
-  Scalars mine = Scalars(0.0, 0.0, 0u, 0u, 0u, 0u, 0u, 0u);
+  Scalars mine = ZeroScalars();
   vec3 mean = vec3(0.0);
   float chi2 = 0.0, expected = 0.0, texture_share = 0.0;
-  uint n = 0u, outliers = 0u;
+  uint n = 0u, outliers = 0u, masked = 0u;
   const uint m = imageLoad(mask, ivec2(texel)).r;
   if (m == 2u) {
     mine.interior = 1u;
@@ -54,15 +54,16 @@ Scalars CompositeTexel(uvec2 texel) {
     for (uint i = 0u; i < kViews; ++i) {
       const uvec2 t = imageLoad(views, ivec3(texel, i)).xy;
       w[i] = ViewWeight(t);
+      if (ViewMasked(t)) masked += 1u;
       const vec4 gain = photometric[2u * i], offset = photometric[2u * i + 1u];
       c[i] = gain.xyz * ViewColour(t) + offset.xyz;
       const float g = gain.w * ViewTexture(t);
       const float textured = pc.delta2 * g * g;
-      // A sample averaging m pixels carries 1/m of their noise, and m pixels of evidence:
-      // its loss saturates at m·K.
-      const float mass = max(ViewMass(t), 1.0);
-      v[i] = pc.sigma2 / mass + textured;
-      k[i] = pc.outlier * mass;
+      // A sample averaging m pixels carries 1/m of their noise. (Its loss still saturates at
+      // K, not m·K: clutter that covers many pixels is not made costlier to explain, which
+      // would reward hypotheses that grow over it; docs/LIKELIHOOD.md.)
+      v[i] = pc.sigma2 / max(ViewMass(t), 1.0) + textured;
+      k[i] = pc.outlier;
       omega[i] = 1.0;
       if (w[i] > 0.0) {
         n += 1u;
@@ -121,10 +122,18 @@ Scalars CompositeTexel(uvec2 texel) {
       mine.seen_multi = 1u;
       mine.views = n;
       mine.outlier_views = outliers;
+    } else if (masked > 0u) {
+      // A camera sees it, but a mask (the user's, clutter) hides it there and leaves fewer
+      // than two to compare: unknown, not unverifiable surface; neither compared nor charged.
+      mine.masked = 1u;
     } else if (n == 1u) {
       for (uint i = 0u; i < kViews; ++i)
         if (w[i] > 0.0) mean = c[i];
       mine.seen_once = 1u;
+      // What its view would cost were it an outlier: no texel can gain by escaping where
+      // only one camera sees it (the cap above bounds every compared texel's excess by an
+      // average view's saturation).
+      mine.unverified = swk;
     } else {
       mine.seen_none = 1u;
     }
@@ -132,13 +141,13 @@ Scalars CompositeTexel(uvec2 texel) {
   if (pc.write_images != 0u) {
     imageStore(composite_out, ivec2(texel), vec4(mean, float(n)));
     imageStore(deviation_out, ivec2(texel), vec4(chi2, expected, m == 2u ? 1.0 : 0.0, m != 0u ? 1.0 : 0.0));
-    imageStore(noise_out, ivec2(texel), vec4(texture_share, float(outliers), float(n), m != 0u ? 1.0 : 0.0));
+    imageStore(noise_out, ivec2(texel), vec4(texture_share, float(outliers), float(n), float(masked)));
   }
   return mine;
 }
 
 void main() {
-  Scalars mine = Scalars(0.0, 0.0, 0u, 0u, 0u, 0u, 0u, 0u);
+  Scalars mine = ZeroScalars();
   const uint x = gl_GlobalInvocationID.x;
   const uint y0 = gl_WorkGroupID.y * kRows;
   for (uint r = 0u; r < kRows; ++r)

@@ -44,11 +44,11 @@ Scalars ComparePixel(uvec2 pixel) {
       ++once;
     }
   }
-  return Scalars(chi2 * pc.sigma2, 3.0 * float(compared), compared, once, 0u, 0u, 0u, 0u);
+  return Scalars(chi2 * pc.sigma2, 3.0 * float(compared), 0.0, 0.0, compared, once, 0u, 0u, 0u, 0u, 0u, 0u);
 }
 
 void main() {
-  Scalars mine = Scalars(0.0, 0.0, 0u, 0u, 0u, 0u, 0u, 0u);
+  Scalars mine = ZeroScalars();
   const uint x = gl_GlobalInvocationID.x;
   for (uint r = 0u; r < kRows; ++r) mine = AddScalars(mine, ComparePixel(uvec2(x, gl_WorkGroupID.y * kRows + r)));
   const Scalars total = ReduceSubgroup(mine);

@@ -17,7 +17,7 @@ layout(push_constant) uniform Push {
 void main() {
   const uint tid = gl_LocalInvocationIndex;
   const uint base = gl_WorkGroupID.x * pc.partial_stride;
-  Scalars mine = Scalars(0.0, 0.0, 0u, 0u, 0u, 0u, 0u, 0u);
+  Scalars mine = ZeroScalars();
   for (uint i = tid; i < pc.partial_count; i += 256u) {
     mine = AddScalars(mine, partials[base + i]);
   }

@@ -7,7 +7,8 @@
 #include "scalars.glsl"
 
 Scalars ReduceSubgroup(Scalars mine) {
-  return Scalars(subgroupAdd(mine.sum_squares), subgroupAdd(mine.dof), subgroupAdd(mine.seen_multi),
+  return Scalars(subgroupAdd(mine.sum_squares), subgroupAdd(mine.dof), subgroupAdd(mine.unverified), 0.0,
+                 subgroupAdd(mine.seen_multi),
                  subgroupAdd(mine.seen_once), subgroupAdd(mine.seen_none), subgroupAdd(mine.interior), subgroupAdd(mine.views),
-                 subgroupAdd(mine.outlier_views));
+                 subgroupAdd(mine.outlier_views), subgroupAdd(mine.masked), 0u);
 }

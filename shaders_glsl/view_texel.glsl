@@ -5,8 +5,8 @@
 // references are 8-bit) with the image texture g = |∇I| where it sampled (the composite's
 // noise model grows with it), then, as halves, the view's weight w (§6.3; 0 where the
 // camera cannot see the texel) and its pixel mass: how many full-resolution pixels the
-// prefiltered sample averages (at least one), which sets both its noise and what it weighs
-// as evidence (Evaluation.h).
+// prefiltered sample averages (at least one), which sets its noise (Evaluation.h); −1 with
+// weight 0 where the camera sees the texel but its photograph is masked there.
 
 uvec2 PackViewTexel(vec3 colour, float texture, float weight, float mass) {
   return uvec2(packUnorm4x8(vec4(colour, texture)), packHalf2x16(vec2(weight, min(mass, 65504.0))));
@@ -16,4 +16,5 @@ vec3 ViewColour(uvec2 t) { return unpackUnorm4x8(t.x).rgb; }
 float ViewTexture(uvec2 t) { return unpackUnorm4x8(t.x).a; }
 float ViewWeight(uvec2 t) { return unpackHalf2x16(t.y).x; }
 float ViewMass(uvec2 t) { return unpackHalf2x16(t.y).y; }
+bool ViewMasked(uvec2 t) { return unpackHalf2x16(t.y).y < 0.0; }
 #endif

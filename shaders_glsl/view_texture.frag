@@ -43,8 +43,13 @@ void main() {
   const float footprint = pc.centre_texel_area.w * cos_theta * pc.params.x / (z * z);
   const float lod = pc.level + max(0.0, 0.5 * log2(max(footprint, 1e-12)));
   // Masked pixels and the undistorted photograph's empty border are not evidence: a sample
-  // that touches any of them (the same uv and LOD) is dropped, never compared as black.
-  if (textureLod(validity, uv, lod).r < 0.999) return;
+  // that touches any of them (the same uv and LOD) is dropped, never compared as black. It
+  // is marked (mass −1), so that a texel the camera would see but for a mask is not taken
+  // for surface no camera can check (composite.comp).
+  if (textureLod(validity, uv, lod).r < 0.999) {
+    view = PackViewTexel(vec3(0.0), 0.0, 0.0, -1.0);
+    return;
+  }
   float weight = 1.0;
   if (pc.params.z > 0.5) {
     // Angle weight: foreshortening times the footprint (Figs 6.7–6.8), capped at one
@@ -55,6 +60,6 @@ void main() {
   // noise model for this view grows with it (Evaluation.h).
   const vec4 sampled = textureLod(reference, uv, lod);
   // The sample averages max(1, footprint) pixels of its level, each 4^level of full
-  // resolution: its noise is that many times smaller, and that many pixels are its evidence.
+  // resolution: its noise variance is that many times smaller than a pixel's.
   view = PackViewTexel(sampled.rgb, sampled.a, weight, max(1.0, footprint) * exp2(2.0 * pc.level));
 }

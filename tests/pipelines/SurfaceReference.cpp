@@ -156,7 +156,7 @@ TexelStatistic ReferenceTexelStatistic(const std::vector<ViewSample>& views, con
     const double mass = std::max(views[i].mass, 1.0);
     w[i] = views[i].weight;
     v[i] = sigma * sigma / mass + model.position_sd * model.position_sd * g * g;
-    k[i] = K * mass;  // a view's loss saturates at K per pixel of evidence
+    k[i] = K;  // a view's loss saturates at K, whatever its mass (composite.comp)
   }
   TexelStatistic s;
   // Consensus: precision-weighted mean reweighted by Welsch weights relative to the closest
@@ -294,7 +294,7 @@ ReducedScalars ReferenceSurfaceScalars(const Scene& scene, const SceneGeometry& 
       continue;
     }
 
-    int seen = 0;
+    int seen = 0, masked = 0;
     for (size_t c = 0; c < cameras.size(); ++c) {
       const LevelCamera& cam = cameras[c];
       const Eigen::Vector3d x_cam = (cam.cam_from_world * X.homogeneous()).head<3>();
@@ -339,7 +339,10 @@ ReducedScalars ReferenceSurfaceScalars(const Scene& scene, const SceneGeometry& 
       if (cam.validity) {
         float valid[4];
         sample(*cam.validity, valid);
-        if (valid[0] < 0.999f) continue;
+        if (valid[0] < 0.999f) {
+          ++masked;
+          continue;
+        }
       }
       float rgba[4];
       sample(*cam.pyramid, rgba);
@@ -363,10 +366,13 @@ ReducedScalars ReferenceSurfaceScalars(const Scene& scene, const SceneGeometry& 
       texels->state[index] = TexelState::Exterior;
       texels->views[index] = uint8_t(seen);
     }
-    if (seen == 0) {
+    if (seen < 2 && masked > 0) {
+      ++out.masked;  // unknown, not unverifiable: neither compared nor charged
+    } else if (seen == 0) {
       ++out.seen_none;
     } else if (seen == 1) {
       ++out.seen_once;
+      out.unverified += samples[0].weight * options.model.outlier_chi2;
     } else {
       ++out.seen_multi;
       const TexelStatistic s = ReferenceTexelStatistic(
