@@ -8,6 +8,7 @@
 layout(set = 0, binding = 1) uniform sampler2D reference;  // mip chain = image pyramid, trilinear
 layout(set = 0, binding = 2) uniform sampler2D depth_map;  // nearest filter, reversed depth
 layout(set = 0, binding = 3) uniform sampler2D validity;   // reference's mips: 1 = comparable (ReferenceImages.h)
+layout(constant_id = 0) const uint kCheckValidity = 0u;    // 0: every pixel counts, binding 3 unread
 
 layout(location = 0) in vec4 clip;
 layout(location = 1) in vec3 world;
@@ -42,7 +43,7 @@ void main() {
   const float lod = pc.level + max(0.0, 0.5 * log2(max(footprint, 1e-12)));
   // Masked pixels and the undistorted photograph's empty border are not evidence: a sample
   // that touches any of them (the same uv and LOD) is dropped, never compared as black.
-  if (textureLod(validity, uv, lod).r < 0.999) return;
+  if (kCheckValidity != 0u && textureLod(validity, uv, lod).r < 0.999) return;
   float weight = 1.0;
   if (pc.params.z > 0.5) {
     // Angle weight: foreshortening times the footprint (Figs 6.7–6.8), capped at one
