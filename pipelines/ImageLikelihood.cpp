@@ -89,7 +89,7 @@ struct ImageLikelihood::Impl {
   // One camera's images on the GPU.
   struct CameraImages {
     vk::GpuImage reference;           // RGBA8, encoded colour, mip m = pyramid level m, alpha = |∇I|
-    vk::GpuImage validity;            // R8, the reference's mips: 1 = comparable (or 1×1 white)
+    vk::GpuImage validity;            // R8, the reference's mips: 1 = comparable (none: every pixel is)
     std::vector<vk::GpuImage> depth;  // D32F, one per likelihood level
     std::vector<VkExtent2D> size;     // the image at each likelihood level
   };

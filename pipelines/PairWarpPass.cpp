@@ -63,22 +63,31 @@ PairWarpPass::PairWarpPass(vk::Device& device, const GpuScene& scene, int camera
     WriteStorageBuffer(device, set, 1, camera_buffer_);
   }
 
-  const vk::ShaderModule vert = vk::CreateShaderModule(device, kImageWarpVert, sizeof(kImageWarpVert));
-  const vk::ShaderModule frag = vk::CreateShaderModule(device, kImageWarpFrag, sizeof(kImageWarpFrag));
-  const vk::ShaderModule dump = vk::CreateShaderModule(device, kImageWarpDumpFrag, sizeof(kImageWarpDumpFrag));
+  vert_ = vk::CreateShaderModule(device, kImageWarpVert, sizeof(kImageWarpVert));
+  frag_ = vk::CreateShaderModule(device, kImageWarpFrag, sizeof(kImageWarpFrag));
+  dump_frag_ = vk::CreateShaderModule(device, kImageWarpDumpFrag, sizeof(kImageWarpDumpFrag));
+  checks_.assign(size_t(bindings), 0);
+  CreatePipelines(0);
+}
+
+void PairWarpPass::CreatePipelines(uint32_t checks) {
+  if (pipelines_[checks][0]) return;
   GraphicsPipelineDesc desc;
-  desc.vertex = vert;
-  desc.fragment = frag;
+  desc.vertex = vert_;
+  desc.fragment = frag_;
   desc.layout = layout_;
   desc.colour_formats = {kResultFormat};
   desc.depth_format = VK_FORMAT_D32_SFLOAT;  // DepthPass::kFormat
   desc.depth_write = false;
   desc.depth_compare = VK_COMPARE_OP_GREATER_OR_EQUAL;  // reversed depth: the visible surface only
   desc.vertex_attributes = 0b01011;                     // position, normal, node
-  pipeline_ = CreateGraphicsPipeline(device, desc);
-  desc.fragment = dump;
+  // image_warp.glsl's kCheckTarget and kCheckSource: a camera whose every pixel counts has
+  // no validity texture, and the pipelines for its pairs do not read one.
+  desc.fragment_constants = {checks & 1u, (checks >> 1) & 1u};
+  pipelines_[checks][0] = CreateGraphicsPipeline(*device_, desc);
+  desc.fragment = dump_frag_;
   desc.colour_formats = {kResultFormat, kSyntheticFormat};
-  dump_pipeline_ = CreateGraphicsPipeline(device, desc);
+  pipelines_[checks][1] = CreateGraphicsPipeline(*device_, desc);
 }
 
 void PairWarpPass::BindImages(int index, VkImageView source_reference, VkImageView source_depth,
@@ -88,8 +97,13 @@ void PairWarpPass::BindImages(int index, VkImageView source_reference, VkImageVi
   WriteSampledImage(*device_, set, 2, source_reference, trilinear_, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
   WriteSampledImage(*device_, set, 3, source_depth, nearest_, VK_IMAGE_LAYOUT_DEPTH_READ_ONLY_OPTIMAL);
   WriteSampledImage(*device_, set, 4, target_reference, trilinear_, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
-  WriteSampledImage(*device_, set, 5, source_validity, trilinear_, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
-  WriteSampledImage(*device_, set, 6, target_validity, trilinear_, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
+  // A missing validity binds the reference in its place (a view at hand): never read.
+  WriteSampledImage(*device_, set, 5, source_validity ? source_validity : source_reference, trilinear_,
+                    VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
+  WriteSampledImage(*device_, set, 6, target_validity ? target_validity : target_reference, trilinear_,
+                    VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
+  checks_.at(size_t(index)) = (target_validity ? 1u : 0u) | (source_validity ? 2u : 0u);
+  CreatePipelines(checks_[size_t(index)]);
 }
 
 void PairWarpPass::SetCameras(int slot, const std::vector<Camera>& cameras) {
@@ -145,7 +159,7 @@ void PairWarpPass::record(VkCommandBuffer cmd, int slot, int source, int target,
   ri.pDepthAttachment = &depth;
   vkCmdBeginRendering(cmd, &ri);
   SetViewport(cmd, out.width, out.height);
-  vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, out.synthetic ? dump_pipeline_ : pipeline_);
+  vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipelines_[checks_.at(size_t(binding))][out.synthetic ? 1 : 0]);
   vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_, 0, 1, &sets_.at(size_t(binding)), 0,
                           nullptr);
   vkCmdPushConstants(cmd, layout_, VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof(WarpPush),

@@ -40,9 +40,10 @@ class PairWarpPass {
   // Binds set `index` (once, at creation of the likelihood): r_s and r_t (mip chains = the
   // image pyramids) in SHADER_READ_ONLY_OPTIMAL, s's depth map in DEPTH_READ_ONLY_OPTIMAL
   // when recorded, and the validity of r_s and r_t (ReferenceImages.h: the same mips, 1 =
-  // comparable, or 1×1 white) in SHADER_READ_ONLY_OPTIMAL. A pixel of t that is invalid is
-  // not compared (as if t saw no surface there); a sample of r_s touching an invalid pixel
-  // counts as not seen by s.
+  // comparable) in SHADER_READ_ONLY_OPTIMAL, or VK_NULL_HANDLE for a camera whose every pixel
+  // counts (its pairs then use pipelines specialised not to read it). A pixel of t that is
+  // invalid is not compared (as if t saw no surface there); a sample of r_s touching an
+  // invalid pixel counts as not seen by s.
   void BindImages(int index, VkImageView source_reference, VkImageView source_depth,
                   VkImageView target_reference, VkImageView source_validity, VkImageView target_validity);
 
@@ -71,7 +72,13 @@ class PairWarpPass {
   vk::PipelineLayout layout_;
   vk::DescriptorPool pool_;
   std::vector<VkDescriptorSet> sets_;
-  vk::Pipeline pipeline_, dump_pipeline_;
+  // Made when the likelihood is: the shaders, and per validity case (bit 0: t has one, bit 1:
+  // s has one) the pipeline without and with the synthetic image, made by BindImages when a
+  // case first occurs.
+  vk::ShaderModule vert_, frag_, dump_frag_;
+  std::vector<uint32_t> checks_;  // per binding
+  vk::Pipeline pipelines_[4][2];
+  void CreatePipelines(uint32_t checks);
 };
 
 }  // namespace vkr

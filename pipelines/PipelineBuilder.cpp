@@ -14,9 +14,16 @@ vk::Pipeline CreateGraphicsPipeline(const vk::Device& device, const GraphicsPipe
   stage.stage = VK_SHADER_STAGE_VERTEX_BIT;
   stage.module = desc.vertex;
   stages.push_back(stage);
+  std::vector<VkSpecializationMapEntry> entries;
+  for (uint32_t i = 0; i < desc.fragment_constants.size(); ++i)
+    entries.push_back({i, uint32_t(i * sizeof(uint32_t)), sizeof(uint32_t)});
+  const VkSpecializationInfo specialization{uint32_t(entries.size()), entries.data(),
+                                            desc.fragment_constants.size() * sizeof(uint32_t),
+                                            desc.fragment_constants.data()};
   if (desc.fragment) {
     stage.stage = VK_SHADER_STAGE_FRAGMENT_BIT;
     stage.module = desc.fragment;
+    if (!entries.empty()) stage.pSpecializationInfo = &specialization;
     stages.push_back(stage);
   }
 

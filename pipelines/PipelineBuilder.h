@@ -24,6 +24,9 @@ struct GraphicsPipelineDesc {
   // (0 position, 1 normal, 2 atlas_uv, 3 node, 4 face): declaring one a shader does not
   // consume draws a validation warning.
   uint32_t vertex_attributes = 0b11111;
+  // The fragment shader's uint specialisation constants 0, 1, … (e.g. a feature switched off
+  // at compile time, so a pipeline without it pays nothing for it).
+  std::vector<uint32_t> fragment_constants;
 };
 
 // Vertex input is GpuVertex (SceneGeometry.h); viewport and scissor are dynamic.

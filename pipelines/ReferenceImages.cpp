@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
 #include "engine/common/InputError.h"
 #include "engine/image/Pyramid.h"
@@ -81,26 +82,52 @@ CameraPhoto LoadCameraPhoto(const Scene& scene, int index, int levels) {
   const Eigen::Matrix3d K = scene.Cameras(scene.InitialValues()).at(size_t(index)).K;
   UndistortedPhoto undistorted = UndistortPhotograph(image, mask.Empty() ? nullptr : &mask, K, cam.distortion);
   photo.image = std::move(undistorted.image);
-  photo.validity = std::move(undistorted.validity);
+  // A lens that fills the whole frame (barrel distortion) and no mask: nothing to check.
+  const auto& v = undistorted.validity.rgba;
+  if (std::any_of(v.begin(), v.end(), [](float x) { return x < 1.0f; })) photo.validity = std::move(undistorted.validity);
   return photo;
 }
 
 std::vector<Image> BuildValidityPyramid(const Image& validity, int levels) {
-  std::vector<Image> pyramid = BuildPyramid(validity, levels);
-  for (Image& level : pyramid) {
-    // Binary: 1 only where the blur averaged nothing but valid pixels (the taps' weights
-    // are multiples of 1/32, so an all-valid footprint sums to exactly 1 down to level 3
-    // and to within a float's rounding below).
-    Image binary(level.width, level.height);
-    auto valid = [&](int x, int y) { return level.At(x, y)[0] >= 0.999f; };
-    for (int y = 0; y < level.height; ++y)
-      for (int x = 0; x < level.width; ++x) {
-        const bool keep = valid(x, y) && valid(std::max(0, x - 1), y) && valid(std::min(level.width - 1, x + 1), y) &&
-                          valid(x, std::max(0, y - 1)) && valid(x, std::min(level.height - 1, y + 1));
-        float* out = binary.At(x, y);
+  if (levels < 1 || validity.Empty()) throw std::invalid_argument("BuildValidityPyramid: no levels or no image");
+  // `support`: the pixels of a level whose colour draws on valid pixels only. Level 0: the
+  // valid pixels. Level l+1: every level-l pixel under Downsample2x's taps (2i−2 … 2i+3 per
+  // axis, clamped at the edge) is in the support. Tracked exactly, not by blurring the
+  // validity: a corner tap weighs 1/1024, which a threshold on the blur would let through.
+  std::vector<uint8_t> support(size_t(validity.width) * validity.height);
+  for (int y = 0; y < validity.height; ++y)
+    for (int x = 0; x < validity.width; ++x) support[size_t(y) * validity.width + x] = validity.At(x, y)[0] >= 0.5f;
+  int w = validity.width, h = validity.height;
+  std::vector<Image> pyramid;
+  for (int l = 0; l < levels; ++l) {
+    if (l > 0) {
+      const int cw = PyramidLevelSize(w, 1), ch = PyramidLevelSize(h, 1);
+      std::vector<uint8_t> coarse(size_t(cw) * ch, 1);
+      for (int j = 0; j < ch; ++j)
+        for (int i = 0; i < cw; ++i)
+          for (int t = -2; t <= 3 && coarse[size_t(j) * cw + i]; ++t)
+            for (int u = -2; u <= 3; ++u) {
+              const int x = std::clamp(2 * i + u, 0, w - 1), y = std::clamp(2 * j + t, 0, h - 1);
+              if (!support[size_t(y) * w + x]) {
+                coarse[size_t(j) * cw + i] = 0;
+                break;
+              }
+            }
+      support = std::move(coarse);
+      w = cw;
+      h = ch;
+    }
+    // Valid: in the support, and so are the four neighbours StoreGradientInAlpha's central
+    // differences read (clamped at the edge as they are).
+    auto in = [&](int x, int y) { return support[size_t(std::clamp(y, 0, h - 1)) * w + std::clamp(x, 0, w - 1)] != 0; };
+    Image level(w, h);
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) {
+        const bool keep = in(x, y) && in(x - 1, y) && in(x + 1, y) && in(x, y - 1) && in(x, y + 1);
+        float* out = level.At(x, y);
         out[0] = out[1] = out[2] = out[3] = keep ? 1.0f : 0.0f;
       }
-    level = std::move(binary);
+    pyramid.push_back(std::move(level));
   }
   return pyramid;
 }
@@ -116,11 +143,7 @@ vk::GpuImage UploadValidity(vk::Device& device, vk::Transfer& transfer, const Ca
 }
 
 vk::GpuImage UploadValidity(vk::Device& device, vk::Transfer& transfer, const Image& validity) {
-  if (validity.Empty()) {
-    // Every pixel counts: a 1×1 white texture reads 1 at any uv and LOD.
-    const std::vector<std::vector<uint8_t>> white{{255}};
-    return UploadMips(device, transfer, white, 1, 1, VK_FORMAT_R8_UNORM);
-  }
+  if (validity.Empty()) return vk::GpuImage();  // every pixel counts
   // The validity has the photograph's size, so its mip count is the reference's.
   const std::vector<Image> levels = BuildValidityPyramid(validity, ReferenceMipCount(validity));
   return UploadMips(device, transfer, PackMips(levels, 1), validity.width, validity.height, VK_FORMAT_R8_UNORM);

@@ -61,7 +61,7 @@ namespace surface_detail {
 // One camera's images on the GPU.
 struct CameraImages {
   vk::GpuImage reference;           // RGBA8, encoded colour, mip m = pyramid level m
-  vk::GpuImage validity;            // R8, the reference's mips: 1 = comparable (or 1×1 white)
+  vk::GpuImage validity;            // R8, the reference's mips: 1 = comparable (none: every pixel is)
   std::vector<vk::GpuImage> depth;  // D32F, one per likelihood level
   Image own_validity;               // the camera's mask and lens frame (empty: all valid), before clutter
   int width = 0, height = 0;

@@ -52,7 +52,11 @@ ViewTexturePass::ViewTexturePass(vk::Device& device, const GpuScene& scene, int 
   desc.layout = layout_;
   desc.colour_formats = {kFormat};
   desc.vertex_attributes = 0b01111;  // position, normal, atlas_uv, node
+  desc.fragment_constants = {0};     // kCheckValidity: cameras where every pixel counts skip the read
   pipeline_ = CreateGraphicsPipeline(device, desc);
+  desc.fragment_constants = {1};
+  validity_pipeline_ = CreateGraphicsPipeline(device, desc);
+  checks_validity_.assign(size_t(bindings), false);
 }
 
 void ViewTexturePass::BindImages(int index, VkImageView reference, VkImageView depth, VkImageView validity) {
@@ -60,7 +64,10 @@ void ViewTexturePass::BindImages(int index, VkImageView reference, VkImageView d
                     VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
   WriteSampledImage(*device_, sets_.at(index), 2, depth, nearest_,
                     VK_IMAGE_LAYOUT_DEPTH_READ_ONLY_OPTIMAL);
-  WriteSampledImage(*device_, sets_.at(index), 3, validity, trilinear_,
+  // Without validity the pipeline specialised not to read binding 3 draws this set; the
+  // binding still needs a view, and the reference is one at hand.
+  checks_validity_.at(size_t(index)) = validity != VK_NULL_HANDLE;
+  WriteSampledImage(*device_, sets_.at(index), 3, validity ? validity : reference, trilinear_,
                     VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
 }
 
@@ -84,7 +91,8 @@ void ViewTexturePass::record(VkCommandBuffer cmd, const ViewCamera& camera, int 
   nothing.uint32[0] = nothing.uint32[1] = 0u;  // weight 0: no camera sees the texel
   const std::optional<VkClearColorValue> zero = clear ? std::optional<VkClearColorValue>(nothing) : std::nullopt;
   BeginRendering(cmd, atlas_size, atlas_size, target, zero, VK_NULL_HANDLE);
-  vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline_);
+  vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS,
+                    checks_validity_.at(size_t(binding)) ? validity_pipeline_ : pipeline_);
   vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_, 0, 1, &sets_.at(binding), 0,
                           nullptr);
   vkCmdPushConstants(cmd, layout_, VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0,

@@ -34,8 +34,10 @@ class ViewTexturePass {
 
   // Binds pair `index` (once, at creation of the likelihood): `reference` (a mip chain, the
   // image pyramid) in SHADER_READ_ONLY_OPTIMAL, `depth` in DEPTH_READ_ONLY_OPTIMAL when recorded,
-  // and `validity` (ReferenceImages.h: the same mips, 1 where comparable, or 1×1 white) in
-  // SHADER_READ_ONLY_OPTIMAL. A texel whose sample touches an invalid pixel gets weight 0.
+  // and `validity` (ReferenceImages.h: the same mips, 1 where comparable) in
+  // SHADER_READ_ONLY_OPTIMAL, or VK_NULL_HANDLE where every pixel counts (then a pipeline
+  // specialised without the validity read draws it: such cameras cost nothing extra). A
+  // texel whose sample touches an invalid pixel gets weight 0.
   void BindImages(int index, VkImageView reference, VkImageView depth, VkImageView validity);
 
   // Renders into `target` (one layer of the view-texture array, COLOR_ATTACHMENT_OPTIMAL)
@@ -54,7 +56,8 @@ class ViewTexturePass {
   vk::PipelineLayout layout_;
   vk::DescriptorPool pool_;
   std::vector<VkDescriptorSet> sets_;
-  vk::Pipeline pipeline_;
+  std::vector<bool> checks_validity_;  // per binding: draw with validity_pipeline_
+  vk::Pipeline pipeline_, validity_pipeline_;
 };
 
 }  // namespace vkr

@@ -82,6 +82,9 @@ def parse_args(argv):
                         "'given' (max(σ, 1), the true noise) or a number (default auto)")
     p.add_argument("--set", action="append", default=[], metavar="K=V", dest="sets",
                    help="extra override passed to run (repeatable; after --quick's)")
+    p.add_argument("--distortion", metavar="SPEC",
+                   help="photograph through this lens (synth --distortion SPEC --colmap, e.g. "
+                        "OPENCV:k1=-0.12,k2=0.03) and read the cameras through that COLMAP model")
     p.add_argument("--quick", action="store_true",
                    help=f"smoke test: --scale {QUICK_SCALE:g} " + " ".join(f"--set {s}" for s in QUICK_SETS))
     p.add_argument("--reuse", action="store_true",
@@ -190,7 +193,11 @@ def commands(vkrecon, asset, sigma, args, folder):
              "--noise", fmt_sigma(sigma), "--seed", str(args.seed), "-o", rel(images), "--quiet"]
     if args.scale is not None:
         synth += ["--scale", f"{args.scale:g}"]
-    sets = [f"images={rel(images)}", f"cameras={rel(images / 'cameras.json')}",
+    cameras = rel(images / "cameras.json")
+    if args.distortion:  # a COLMAP object's folder resolves against the scene file: absolute
+        synth += ["--distortion", args.distortion, "--colmap"]
+        cameras = json.dumps({"colmap": str((images / "sparse").resolve())})
+    sets = [f"images={rel(images)}", f"cameras={cameras}",
             f"likelihood.sigma={likelihood_sigma(args.likelihood_sigma, sigma)}"] + args.sets
     run_cmd = [vkrecon, "run", rel(asset["scene"])]
     for s in sets:
@@ -631,6 +638,7 @@ def main(argv):
         "devices": capture([vkrecon, "devices"]).splitlines(),
         "load_before": loadavg(), "assets": args.assets, "sigmas": args.sigmas,
         "seed": args.seed, "scale": args.scale, "likelihood_sigma": args.likelihood_sigma,
+        "distortion": args.distortion,
         "sets": args.sets, "reuse": args.reuse}
 
     # Noise level outermost: an interrupted study (resumed with --reuse) has every asset

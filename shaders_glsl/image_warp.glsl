@@ -21,9 +21,11 @@ layout(set = 0, binding = 2) uniform sampler2D source_reference;  // r_s: mips =
 layout(set = 0, binding = 3) uniform sampler2D source_depth;      // s's depth map at this level, nearest
 layout(set = 0, binding = 4) uniform sampler2D target_reference;  // r_t, read texel by texel
 // 1 where r_s / r_t may be compared: their masks and lens borders (ReferenceImages.h), the
-// same mips as the references, or 1×1 white for a camera where every pixel counts.
+// same mips as the references. Read only where the camera has one (PairWarpPass.cpp).
 layout(set = 0, binding = 5) uniform sampler2D source_validity;
 layout(set = 0, binding = 6) uniform sampler2D target_validity;
+layout(constant_id = 0) const uint kCheckTarget = 0u;
+layout(constant_id = 1) const uint kCheckSource = 0u;
 
 layout(location = 0) in vec4 clip_s;
 layout(location = 1) in vec3 world;
@@ -54,12 +56,11 @@ void main() {
   const float cos_t = dot(n, normalize(t.xyz - world));
   // t sees the back of a face: no surface it could observe (the surface likelihood's rule).
   if (cos_t <= 0.0) discard;
-  // t's pixel is masked or outside its undistorted frame: t observed nothing here. Read at
-  // the texel's centre and level, so the 1×1 texture of an all-valid camera serves too.
-  const int level_t = int(pc.level);
-  const ivec2 last_t = textureSize(target_reference, level_t) - 1;
-  const vec2 centre_t = (vec2(min(ivec2(gl_FragCoord.xy), last_t)) + 0.5) / vec2(last_t + 1);
-  if (textureLod(target_validity, centre_t, pc.level).r < 0.999) discard;
+  // t's pixel is masked or outside its undistorted frame: t observed nothing here.
+  if (kCheckTarget != 0u) {
+    const ivec2 last_t = textureSize(target_reference, int(pc.level)) - 1;
+    if (texelFetch(target_validity, min(ivec2(gl_FragCoord.xy), last_t), int(pc.level)).r < 0.999) discard;
+  }
 
   const float z_s = clip_s.w;  // depth in s
   if (z_s <= pc.near) return;
@@ -84,7 +85,7 @@ void main() {
   const float top = float(textureQueryLevels(source_reference) - 1);
   const float lod = max(min(0.5 * log2(max(footprint, 1e-12)), top), pc.level);
   const vec4 rs = textureLod(source_reference, uv, lod);
-  if (textureLod(source_validity, uv, lod).r < 0.999) return;  // s's sample touches masked pixels
+  if (kCheckSource != 0u && textureLod(source_validity, uv, lod).r < 0.999) return;  // touches masked pixels
   const int level = int(pc.level);
   const ivec2 last = textureSize(target_reference, level) - 1;
   const vec4 rt = texelFetch(target_reference, min(ivec2(gl_FragCoord.xy), last), level);

@@ -10,6 +10,7 @@
 layout(set = 0, binding = 1) uniform sampler2D reference;  // mip chain = image pyramid, trilinear
 layout(set = 0, binding = 2) uniform sampler2D depth_map;  // nearest filter, reversed depth
 layout(set = 0, binding = 3) uniform sampler2D validity;   // reference's mips: 1 = comparable (ReferenceImages.h)
+layout(constant_id = 0) const uint kCheckValidity = 0u;    // 0: every pixel counts, binding 3 unread
 
 layout(location = 0) in vec4 clip;
 layout(location = 1) in vec3 world;
@@ -46,7 +47,7 @@ void main() {
   // that touches any of them (the same uv and LOD) is dropped, never compared as black. It
   // is marked (mass −1), so that a texel the camera would see but for a mask is not taken
   // for surface no camera can check (composite.comp).
-  if (textureLod(validity, uv, lod).r < 0.999) {
+  if (kCheckValidity != 0u && textureLod(validity, uv, lod).r < 0.999) {
     view = PackViewTexel(vec3(0.0), 0.0, 0.0, -1.0);
     return;
   }

@@ -9,28 +9,20 @@
 
 #include "engine/image/Image.h"
 #include "engine/scene/Scene.h"
+#include "tests/cli/CliTestUtil.h"
 #include "tests/common/TestFiles.h"
 
 namespace vkr {
 namespace {
 
 namespace fs = std::filesystem;
+using test::ExpectBadInput;
+using test::Quote;
 using test::RunCommand;
 using test::TempDir;
 
 const std::string kVkrecon = VKRECON_BINARY;
 const fs::path kAssets = fs::path(VKRECON_SOURCE_DIR) / "assets";
-
-std::string Quote(const fs::path& p) { return "'" + p.string() + "'"; }
-
-// Exit status 2 and exactly one line on stderr containing every `needle`.
-void ExpectBadInput(const test::CommandResult& r, const std::vector<std::string>& needles) {
-  EXPECT_EQ(r.exit_status, 2) << r.err;
-  std::string err = r.err;
-  while (!err.empty() && err.back() == '\n') err.pop_back();
-  EXPECT_EQ(err.find('\n'), std::string::npos) << "more than one line:\n" << r.err;
-  for (const auto& n : needles) EXPECT_NE(r.err.find(n), std::string::npos) << "missing '" << n << "' in: " << r.err;
-}
 
 TEST(Cli, HelpListsEverySubcommand) {
   const auto r = RunCommand(kVkrecon + " --help");
