@@ -192,6 +192,9 @@ std::vector<Reprojection> WriteReprojections(const fs::path& dir, vk::Device& de
     out.camera = cameras[i].name;
     double squares = 0.0;
     int64_t outliers = 0;
+    // Per pixel, the residual's χ² per channel under the noise model, −1 where the model does
+    // not reach or clutter was masked.
+    std::vector<double> chi2(size_t(w) * h, -1.0);
     for (int y = 0; y < h; ++y)
       for (int x = 0; x < w; ++x) {
         const float* r = reference.At(x, y);
@@ -208,9 +211,8 @@ std::vector<Reprojection> WriteReprojections(const fs::path& dir, vk::Device& de
           if (covered) e2 += d * d;
         }
         const double g = gradient.At(x, y)[3];
-        const double per_channel = e2 / (3.0 * (sigma2 + delta2 * g * g));
-        float* o = residual.At(x, y);
         const bool clutter = i < noise.clutter.size() && noise.clutter[i].At(x, y)[0] < 0.5f;
+        float* o = residual.At(x, y);
         if (covered && clutter) {
           const float grey = (r[0] + r[1] + r[2]) / 3.0f;
           o[0] = o[2] = 0.5f + 0.4f * grey;
@@ -218,14 +220,31 @@ std::vector<Reprojection> WriteReprojections(const fs::path& dir, vk::Device& de
         } else if (covered) {  // masked clutter is not evidence: out of the figures
           ++out.pixels;
           squares += e2;
-          outliers += per_channel > 9.0;
-          ChiSquareRamp(per_channel, o);
+          chi2[size_t(y) * w + x] = e2 / (3.0 * (sigma2 + delta2 * g * g));
         } else {
           for (int c = 0; c < 3; ++c) o[c] = 0.25f * r[c];
         }
         o[3] = 1.0f;
         strip.At(x, y)[3] = strip.At(w + x, y)[3] = strip.At(2 * w + x, y)[3] = 1.0f;
       }
+    // A pixel of the model textured with the atlas is blurrier than the photograph, which
+    // σ (the noise of the samples the likelihood compares) does not describe: the scale is
+    // this photograph's own robust one (its median χ² per channel is χ²₃'s, 0.789), so the
+    // image shows where the residuals stand out, not how blurry the atlas is.
+    std::vector<double> covered_chi2;
+    for (double v : chi2)
+      if (v >= 0.0) covered_chi2.push_back(v);
+    double scale = 1.0;
+    if (!covered_chi2.empty()) {
+      std::nth_element(covered_chi2.begin(), covered_chi2.begin() + covered_chi2.size() / 2, covered_chi2.end());
+      scale = std::max(covered_chi2[covered_chi2.size() / 2] / 0.789, 1.0);
+    }
+    for (size_t p = 0; p < chi2.size(); ++p) {
+      if (chi2[p] < 0.0) continue;
+      const double v = chi2[p] / scale;
+      outliers += v > 9.0;
+      ChiSquareRamp(v, &residual.rgba[4 * p]);
+    }
     out.file = dir / (cameras[i].name + ".png");
     WritePng(out.file, strip);
     out.residual_file = dir / (cameras[i].name + "_residual.png");

@@ -34,7 +34,8 @@ struct Reprojection {
   std::filesystem::path file, residual_file;
   double rms_255 = 0.0;       // RMS over covered pixels and channels, 0–255 scale
   int64_t pixels = 0;         // covered by the model
-  double outlier_share = 0.0; // of those, pixels whose residual exceeds 3 noise sds (RMS over channels)
+  double outlier_share = 0.0; // of those, pixels whose residual exceeds 3 sds (RMS over channels) of the
+                              // photograph's own robust scale
 };
 
 // The noise model the residuals are measured against, and each camera's colour correction
@@ -49,9 +50,10 @@ struct ReprojectionNoise {
 
 // Per camera, `DIR/<camera>.png`: reference | synthetic (the model textured with `atlas`) |
 // |difference| ×4, side by side; and `DIR/<camera>_residual.png`: per pixel the residual's χ²
-// per channel under `noise` on the deviation ramp (blue 0, green 1 = noise, yellow 2, red
-// ≥ 4), the photograph dimmed where the model does not reach and tinted magenta where it was
-// masked as clutter (ClutterMasks.h; those pixels are not counted).
+// per channel under `noise`, scaled so that its median is χ²₃'s (the photograph's own robust
+// scale: the textured model is blurrier than a photograph), on the deviation ramp (blue 0,
+// green 1, yellow 2, red ≥ 4), the photograph dimmed where the model does not reach and
+// tinted magenta where it was masked as clutter (ClutterMasks.h; those pixels not counted).
 std::vector<Reprojection> WriteReprojections(const std::filesystem::path& dir, vk::Device& device,
                                              const Scene& scene, const SceneGeometry& geometry,
                                              const std::vector<double>& psi, const Image& atlas,

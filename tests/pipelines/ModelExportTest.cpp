@@ -91,7 +91,17 @@ TEST_F(GpuTest, TexturedModelAndReprojectionsOfTheTruth) {
       for (int x = 2 * 160; x < 3 * 160; ++x) diff += strip.At(x, y)[0] + strip.At(x, y)[1] + strip.At(x, y)[2];
     // |difference| ×4 at the truth: dark on average (edges and resampling only).
     EXPECT_LT(diff / (3.0 * 160 * strip.height), 0.12) << file;
+    // The residual image: at the truth few pixels stand out.
+    EXPECT_EQ(LoadImage(r.residual_file).width, 160);
+    EXPECT_LT(r.outlier_share, 0.05) << r.residual_file;
   }
+  // A box 15 cm off, textured with the truth's composite: its photographs' residuals show it.
+  std::vector<double> wrong = truth;
+  wrong[size_t(scene.ParameterIndex("x"))] += 0.15;
+  const auto off = WriteReprojections(dir / "wrong", device(), scene, geometry, wrong, composite, {});
+  double truth_share = 0.0, wrong_share = 0.0;
+  for (size_t i = 0; i < off.size(); ++i) truth_share += strips[i].outlier_share, wrong_share += off[i].outlier_share;
+  EXPECT_GT(wrong_share, 3.0 * truth_share);
 }
 
 }  // namespace

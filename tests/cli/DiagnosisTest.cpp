@@ -1,0 +1,122 @@
+// The diagnosis of a reconstruction (apps/Diagnosis.h) is ok only on positive evidence, and
+// otherwise names what disagrees: a node, a photograph, clutter, chains that disagree, or a
+// model that explains nothing.
+
+#include <gtest/gtest.h>
+
+#include "apps/Diagnosis.h"
+
+namespace vkr::app {
+namespace {
+
+Scene OneParameterScene() {
+  Scene scene;
+  Parameter p;
+  p.name = "w";
+  p.prior.a = 0.0;
+  p.prior.b = 1.0;
+  scene.parameters.push_back(p);
+  return scene;
+}
+
+struct Inputs {
+  Evaluation at_map;
+  opt::SamplerSummary summary;
+  std::vector<NodeResidual> nodes;
+  std::vector<Reprojection> reprojections;
+  std::vector<double> clutter;
+
+  Inputs() {
+    at_map.scalars.sum_squares = 1000.0 * std::pow(8.0 / 255.0, 2);  // χ²/dof 1 at σ = 8
+    at_map.scalars.dof = 1000.0;
+    at_map.scalars.seen_multi = 900;
+    at_map.scalars.seen_once = 50;
+    opt::ParameterSummary p;
+    p.name = "w";
+    p.sd = 0.01;
+    p.rhat = 1.01;
+    summary.parameters.push_back(p);
+    for (const char* name : {"ground", "box"}) {
+      NodeResidual n{name};
+      n.texels = n.compared = 500;
+      n.chi2 = n.expected = 2000.0;
+      n.views = 2000;
+      n.outlier_views = 10;
+      nodes.push_back(n);
+    }
+    for (const char* name : {"cam0", "cam1"}) {
+      Reprojection r;
+      r.camera = name;
+      r.residual_file = std::string(name) + "_residual.png";
+      r.rms_255 = 9.0;
+      r.pixels = 10000;
+      r.outlier_share = 0.01;
+      reprojections.push_back(r);
+    }
+    clutter = {0.0, 0.001};
+  }
+  Diagnosis Run() const {
+    return Diagnose(OneParameterScene(), at_map, 8.0, summary, nodes, reprojections, clutter);
+  }
+};
+
+bool Mentions(const Diagnosis& d, const std::string& what) {
+  for (const std::string& note : d.notes)
+    if (note.find(what) != std::string::npos) return true;
+  return false;
+}
+
+TEST(Diagnosis, OkOnlyWhenResidualsLookLikeNoiseAndChainsAgree) {
+  const Inputs clean;
+  const Diagnosis d = clean.Run();
+  EXPECT_TRUE(d.ok());
+  EXPECT_EQ(d.json["verdict"], "ok");
+  EXPECT_EQ(d.json["nodes"].size(), 2u);
+  EXPECT_TRUE(d.notes.empty());
+}
+
+TEST(Diagnosis, NamesTheNodeThatDisagrees) {
+  Inputs in;
+  in.nodes[1].outlier_views = 400;  // 20 % of the box's views are outliers
+  const Diagnosis d = in.Run();
+  EXPECT_EQ(d.verdict, Diagnosis::Verdict::ModelError);
+  EXPECT_FALSE(d.json["ok"].get<bool>());
+  EXPECT_TRUE(Mentions(d, "box: 20 %")) << d.notes.front();
+  EXPECT_FALSE(Mentions(d, "ground:"));
+  EXPECT_TRUE(d.json["nodes"][1]["disagrees"].get<bool>());
+}
+
+TEST(Diagnosis, NamesThePhotographsThatDisagreeOrShowClutter) {
+  Inputs in;
+  in.reprojections[0].outlier_share = 0.2;
+  in.clutter[1] = 0.07;
+  const Diagnosis d = in.Run();
+  EXPECT_EQ(d.verdict, Diagnosis::Verdict::ModelError);
+  EXPECT_TRUE(Mentions(d, "photograph cam0: 20 %"));
+  EXPECT_TRUE(Mentions(d, "cam0_residual.png"));
+  EXPECT_TRUE(Mentions(d, "photograph cam1: 7 % of the pixels the model covers show something the scene leaves out"));
+}
+
+TEST(Diagnosis, ChainsThatDisagreeAreNotOk) {
+  Inputs in;
+  in.summary.parameters[0].rhat = 1.3;
+  const Diagnosis d = in.Run();
+  EXPECT_EQ(d.verdict, Diagnosis::Verdict::Unsettled);
+  EXPECT_TRUE(Mentions(d, "run longer"));
+}
+
+TEST(Diagnosis, AModelThatExplainsNothingFails) {
+  Inputs in;
+  in.at_map.scalars.sum_squares *= 5.0;  // χ²/dof 5
+  EXPECT_EQ(in.Run().verdict, Diagnosis::Verdict::Failed);
+  Inputs far;
+  far.reprojections[0].rms_255 = far.reprojections[1].rms_255 = 60.0;
+  EXPECT_EQ(far.Run().verdict, Diagnosis::Verdict::Failed);
+  Inputs blind;
+  blind.at_map.scalars.seen_multi = 10;
+  blind.at_map.scalars.seen_none = 900;
+  EXPECT_EQ(blind.Run().verdict, Diagnosis::Verdict::Failed);
+}
+
+}  // namespace
+}  // namespace vkr::app
