@@ -20,8 +20,7 @@ Evaluation Score(const ReducedScalars& scalars, const LikelihoodModel& model) {
   // registered surface neutral (§7.4).
   e.log_likelihood = -0.5 * (model.chi2_correction ? chi2 - scalars.dof : chi2);
   e.log_occlusion_prior =
-      -0.5 * (model.unseen_penalty * model.outlier_chi2 * scalars.seen_none +
-              model.unverified_penalty * scalars.unverified);
+      -0.5 * (model.unseen_penalty * scalars.seen_none + model.unverified_penalty * scalars.unverified);
   return e;
 }
 

@@ -54,9 +54,10 @@ struct LikelihoodModel {
   // a view 3σ off in every channel (e² = 27) is mostly an outlier.
   double outlier_chi2 = 27.0;
   double robust_cap = 9.0;     // image likelihood: per-dof cap of a pixel pair's χ²
-  // §7.1: log-prior penalty per exterior texel that no view sees, in units of one view's
-  // saturated loss K (weight 1): surface hidden from every camera is not free,
-  // and moving disagreeing surface out of every view gains nothing ("No free surface").
+  // §7.1: log-prior penalty per exterior texel that no view sees, in units of one degree of
+  // freedom's expected contribution: surface hidden from every camera is not free. (Not K,
+  // like a texel one view sees: surface that other surface hides from every camera, such as
+  // a ground plane behind walls, would then push the walls about; docs/LIKELIHOOD.md.)
   double unseen_penalty = 1.0;
   // Factor on `unverified`: a texel only one photograph sees cannot be checked, so it is
   // charged what its view would cost as an outlier, −½·w·K: no surface gains by moving

@@ -28,11 +28,10 @@ TEST_F(GpuTest, ChiSquareCorrectionStopsHiddenSurfaceFromWinning) {
   options.levels = 1;
   options.weights = ViewWeights::Uniform;
   options.model.sigma = 16.0;
-  // The thesis's occlusion prior, one degree of freedom per unseen texel, so that the χ²
-  // correction's own effect shows (the default charges a whole outlier view, K, and hiding
-  // loses even without the correction: checked last).
-  const double default_unseen = options.model.unseen_penalty;
-  options.model.unseen_penalty = 1.0 / options.model.outlier_chi2;
+  // Only the occlusion prior of §7.1 (one degree of freedom per unseen texel), so that the χ²
+  // correction's own effect shows; the default also charges texels one view sees (checked last).
+  const double default_unverified = options.model.unverified_penalty;
+  options.model.unverified_penalty = 0.0;
   const std::vector<std::vector<double>> batch = {{90.0}, {-90.0}};
   auto evaluate = [&](bool correction) {
     options.model.chi2_correction = correction;
@@ -46,7 +45,7 @@ TEST_F(GpuTest, ChiSquareCorrectionStopsHiddenSurfaceFromWinning) {
   EXPECT_GT(hidden.scalars.seen_none, truth.scalars.seen_none + 500);
   EXPECT_GT(plain[1].total(), plain[0].total()) << "without the correction hiding the sign should look better";
   EXPECT_GT(corrected[0].total(), corrected[1].total()) << "with the correction the truth should win";
-  options.model.unseen_penalty = default_unseen;
+  options.model.unverified_penalty = default_unverified;
   const std::vector<Evaluation> defaults = evaluate(true);
   EXPECT_GT(defaults[0].total(), defaults[1].total()) << "with the default occlusion prior too";
 }
