@@ -17,7 +17,7 @@ constexpr double kImplausibleRms = 48.0;
 // 3 sds in every channel) about once in 10⁵; edges, resampling and anti-aliasing of
 // correctly placed surface make it 0.5–3 % on the bundled assets at their truth
 // (docs/LIKELIHOOD.md, "Diagnosis"). A node or photograph beyond these disagrees.
-constexpr double kOutlierShare = 0.08;     // of a node's view samples, or a photograph's covered pixels
+constexpr double kOutlierShare = 0.08;     // of a node's view samples
 constexpr double kNodeChi2PerDof = 1.6;    // a node's χ² against what noise alone gives
 constexpr double kMinNodeShare = 0.01;     // nodes with fewer compared texels are not judged
 constexpr double kRhat = 1.1;              // chains that disagree more have not converged
@@ -95,20 +95,20 @@ Diagnosis Diagnose(const Scene& scene, const Evaluation& at_map, double sigma_25
   for (size_t i = 0; i < reprojections.size(); ++i) {
     const Reprojection& r = reprojections[i];
     const double clutter = i < clutter_share.size() ? clutter_share[i] : 0.0;
-    const bool bad = r.outlier_share > kOutlierShare;
+    // A photograph disagrees where it shows regions the scene lacks (its clutter mask). The
+    // share of its pixels beyond 3 robust sds is reported, not judged: the model textured
+    // with the atlas lacks the photograph's finest detail, which makes the tails heavy
+    // (about 10 % even where the fit is exact: crate_clutter, docs/LIKELIHOOD.md).
+    const bool bad = clutter > kClutterShare;
     camera_json.push_back({{"camera", r.camera}, {"rms_255", r.rms_255}, {"pixels", r.pixels},
                            {"outlier_share", r.outlier_share}, {"clutter_share", clutter},
                            {"residual_image", r.residual_file.filename().string()}, {"disagrees", bad}});
-    if (clutter > kClutterShare)
+    if (bad)
       model.push_back("photograph " + r.camera +
                       Format(": %.0f %% of the pixels the model covers show something the scene leaves out (masked "
                              "as clutter, see clutter/",
                              100.0 * clutter) +
-                      r.camera + ".png)");
-    if (bad)
-      model.push_back("photograph " + r.camera +
-                      Format(": %.0f %% of the pixels the model covers differ beyond 3 noise sds", 100.0 * r.outlier_share) +
-                      " (reprojections/" + r.residual_file.filename().string() + ")");
+                      r.camera + ".png and reprojections/" + r.residual_file.filename().string() + ")");
   }
   if (total.views > 0 && total.OutlierShare() > kOutlierShare)
     model.insert(model.begin(), Format("%.0f %% of all view samples are outliers of the robust composite (noise alone: "

@@ -125,6 +125,8 @@ Scalars CompositeTexel(uvec2 texel) {
     } else if (masked > 0u) {
       // A camera sees it, but a mask (the user's, clutter) hides it there and leaves fewer
       // than two to compare: unknown, not unverifiable surface; neither compared nor charged.
+      for (uint i = 0u; i < kViews; ++i)
+        if (w[i] > 0.0) mean = c[i];
       mine.masked = 1u;
     } else if (n == 1u) {
       for (uint i = 0u; i < kViews; ++i)
