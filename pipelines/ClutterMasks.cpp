@@ -100,7 +100,7 @@ ClutterMasks FindClutter(vk::Device& device, SurfaceLikelihood& likelihood, cons
     for (size_t p = 0; p < region.size(); ++p) {
       total += covered[p];
       if (grown[p] > 0.0) {
-        for (int c = 0; c < 4; ++c) mask.rgba[4 * p + size_t(c)] = 0.0f;
+        for (int c = 0; c < 3; ++c) mask.rgba[4 * p + size_t(c)] = 0.0f;  // black, opaque
         masked += covered[p];
       }
     }

@@ -28,7 +28,7 @@ struct ClutterOptions {
 };
 
 struct ClutterMasks {
-  std::vector<Image> masks;   // per camera, its image's size: all channels 1 = compare, 0 = clutter
+  std::vector<Image> masks;   // per camera, its image's size: rgb 1 = compare, 0 = clutter (alpha 1)
   std::vector<double> share;  // per camera: the share of the pixels the model covers that are masked
 };
 

@@ -239,12 +239,24 @@ std::vector<Reprojection> WriteReprojections(const fs::path& dir, vk::Device& de
       std::nth_element(covered_chi2.begin(), covered_chi2.begin() + covered_chi2.size() / 2, covered_chi2.end());
       scale = std::max(covered_chi2[covered_chi2.size() / 2] / 0.789, 1.0);
     }
-    for (size_t p = 0; p < chi2.size(); ++p) {
-      if (chi2[p] < 0.0) continue;
-      const double v = chi2[p] / scale;
-      outliers += v > 9.0;
-      ChiSquareRamp(v, &residual.rgba[4 * p]);
-    }
+    for (size_t p = 0; p < chi2.size(); ++p)
+      if (chi2[p] >= 0.0) outliers += chi2[p] / scale > 9.0;
+    // The image shows the mean over 3×3 pixels, so that regions stand out of the noise's
+    // speckle (single pixels of χ²₃ spread from 0.2 to 2 and more).
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) {
+        if (chi2[size_t(y) * w + x] < 0.0) continue;
+        double sum = 0.0;
+        int count = 0;
+        for (int dy = -1; dy <= 1; ++dy)
+          for (int dx = -1; dx <= 1; ++dx) {
+            const int xx = x + dx, yy = y + dy;
+            if (xx < 0 || yy < 0 || xx >= w || yy >= h || chi2[size_t(yy) * w + xx] < 0.0) continue;
+            sum += chi2[size_t(yy) * w + xx];
+            ++count;
+          }
+        ChiSquareRamp(sum / count / scale, residual.At(x, y));
+      }
     out.file = dir / (cameras[i].name + ".png");
     WritePng(out.file, strip);
     out.residual_file = dir / (cameras[i].name + "_residual.png");
