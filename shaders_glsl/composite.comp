@@ -36,8 +36,69 @@ layout(push_constant) uniform Push {
 // Texels per invocation, a column (CompositePass.cpp mirrors it as kCompositeRows): fewer
 // partials to reduce.
 const uint kRows = 16u;
-// Reweighting rounds of the consensus (an M-estimator over the views of one texel).
+// Reweighting rounds of the consensus (an M-estimator over the views of one texel), and the
+// share of K up to which a view's weight stays 1 (the flat top: views that agree as well as
+// noise allows keep the plain mean, at no cost).
 const uint kRounds = 3u;
+const float kFlat = 1.0 / 3.0;
+
+// The photometric correction, read once per invocation (not per texel: lavapipe's buffer
+// reads were a quarter of the pass).
+vec4 gains[kViews], offsets[kViews];
+
+// One view of a texel as the statistic needs it: corrected colour, weight, variance.
+struct View {
+  vec3 c;
+  float w, r;      // weight, 1/variance
+  bool masked;
+  float textured;  // the texture term of the variance
+};
+
+View ReadView(uvec2 texel, uint i) {
+  const uvec2 t = imageLoad(views, ivec3(texel, i)).xy;
+  View view;
+  view.w = ViewWeight(t);
+  view.masked = ViewMasked(t);
+  const vec4 gain = gains[i], offset = offsets[i];
+  view.c = gain.xyz * ViewColour(t) + offset.xyz;
+  const float g = gain.w * ViewTexture(t);
+  view.textured = pc.delta2 * g * g;
+  // A sample averaging m pixels carries 1/m of their noise. (Its loss still saturates at
+  // K, not m·K: clutter that covers many pixels is not made costlier to explain, which
+  // would reward hypotheses that grow over it; docs/LIKELIHOOD.md.)
+  view.r = 1.0 / (pc.sigma2 / max(ViewMass(t), 1.0) + view.textured);
+  return view;
+}
+
+// The texel's views, read once (lavapipe's R32G32_UINT image loads are dear).
+View texel_views[kViews];
+View LoadView(uvec2 texel, uint i) { return texel_views[i]; }
+
+// A view's loss: quadratic up to e² = kFlat·K, then saturating smoothly (with a continuous
+// slope) to K: ρ = T + (K − T)(1 − e^(−(e² − T)/(K − T))) beyond T. Views that agree as well
+// as noise allows cost exactly their χ², and only outliers need an exp.
+float Loss(float e2) {
+  const float t = kFlat * pc.outlier, s = pc.outlier - t;
+  return e2 <= t ? e2 : t + s * (1.0 - exp((t - e2) / s));
+}
+
+// Σ w_i ρ(e²_i) at consensus `mean`, the number of outlier views (e² > K); returns the
+// largest e²_i.
+float LossAtMean(uvec2 texel, vec3 mean, out float chi2, out uint outliers) {
+  chi2 = 0.0;
+  outliers = 0u;
+  float farthest = 0.0;
+  for (uint i = 0u; i < kViews; ++i) {
+    const View view = LoadView(texel, i);
+    if (!(view.w > 0.0)) continue;
+    const vec3 d = view.c - mean;
+    const float e2 = dot(d, d) * view.r;
+    chi2 += view.w * Loss(e2);
+    if (e2 > pc.outlier) outliers += 1u;
+    farthest = max(farthest, e2);
+  }
+  return farthest;
+}
 
 Scalars CompositeTexel(uvec2 texel) {
   Scalars mine = ZeroScalars();
@@ -48,74 +109,65 @@ Scalars CompositeTexel(uvec2 texel) {
   if (m == 2u) {
     mine.interior = 1u;
   } else if (m == 1u) {
-    vec3 c[kViews];
-    float w[kViews], v[kViews], k[kViews], omega[kViews], e2[kViews];
-    float sw = 0.0, swk = 0.0, share = 0.0;
+    float sw = 0.0, share = 0.0, sp = 0.0, spw = 0.0;
+    vec3 spc = vec3(0.0), single = vec3(0.0);
     for (uint i = 0u; i < kViews; ++i) {
-      const uvec2 t = imageLoad(views, ivec3(texel, i)).xy;
-      w[i] = ViewWeight(t);
-      if (ViewMasked(t)) masked += 1u;
-      const vec4 gain = photometric[2u * i], offset = photometric[2u * i + 1u];
-      c[i] = gain.xyz * ViewColour(t) + offset.xyz;
-      const float g = gain.w * ViewTexture(t);
-      const float textured = pc.delta2 * g * g;
-      // A sample averaging m pixels carries 1/m of their noise. (Its loss still saturates at
-      // K, not m·K: clutter that covers many pixels is not made costlier to explain, which
-      // would reward hypotheses that grow over it; docs/LIKELIHOOD.md.)
-      v[i] = pc.sigma2 / max(ViewMass(t), 1.0) + textured;
-      k[i] = pc.outlier;
-      omega[i] = 1.0;
-      if (w[i] > 0.0) {
-        n += 1u;
-        sw += w[i];
-        swk += w[i] * k[i];
-        share += w[i] * textured / v[i];
-      }
+      const View view = ReadView(texel, i);
+      texel_views[i] = view;
+      if (view.masked) masked += 1u;
+      if (!(view.w > 0.0)) continue;
+      n += 1u;
+      sw += view.w;
+      share += view.w * view.textured * view.r;
+      const float p = view.w * view.r;
+      sp += p;
+      spw += p * view.w;
+      spc += p * view.c;
+      single = view.c;
     }
     if (n >= 2u) {
-      // Consensus: the precision-weighted mean, reweighted by each view's Welsch weight
-      // e^(−e²/K) relative to the closest view's (so that a texel whose views all disagree
-      // keeps a finite mean): a view far from the others (an occluder the scene lacks, a
-      // highlight) stops pulling it.
-      for (uint round = 0u; round <= kRounds; ++round) {
-        float sp = 0.0;
-        vec3 spc = vec3(0.0);
-        for (uint i = 0u; i < kViews; ++i) {
-          const float p = omega[i] * w[i] / v[i];
-          sp += p;
-          spc += p * c[i];
+      // Consensus: the precision-weighted mean, reweighted by Welsch weights e^(−e²/K)
+      // that are flat (1) up to e² = kFlat·K and relative to the best-agreeing view beyond
+      // (so a texel whose views all disagree keeps a finite mean): a view far from the
+      // others (an occluder the scene lacks, a highlight) stops pulling it. When every view
+      // is within the flat top of the plain mean, that mean is the consensus.
+      mean = spc / sp;
+      // The loss's expectation under the noise model: a view's residual from the plain
+      // precision-weighted mean has variance a_i·v_i per channel, a_i = 1 − 2p_i/P + Σp_j w_j/(v_i P²),
+      // and Σ w_i·3a_i = 3(Σw − Σwp/P). (The loss's saturation beyond kFlat·K lowers it by
+      // under 0.3 %: docs/LIKELIHOOD.md.)
+      expected = 3.0 * max(sw - spw / sp, 0.0);
+      const float flat_top = kFlat * pc.outlier;
+      const float farthest = LossAtMean(texel, mean, chi2, outliers);
+      if (farthest > flat_top) {
+        for (uint round = 0u; round < kRounds; ++round) {
+          float closest = 3.0e38;
+          for (uint i = 0u; i < kViews; ++i) {
+            const View view = LoadView(texel, i);
+            if (!(view.w > 0.0)) continue;
+            const vec3 d = view.c - mean;
+            closest = min(closest, dot(d, d) * view.r);
+          }
+          const float base = max(closest, flat_top);
+          float rp = 0.0;
+          vec3 rpc = vec3(0.0);
+          for (uint i = 0u; i < kViews; ++i) {
+            const View view = LoadView(texel, i);
+            if (!(view.w > 0.0)) continue;
+            const vec3 d = view.c - mean;
+            const float omega = exp((base - max(dot(d, d) * view.r, flat_top)) / pc.outlier);
+            const float p = omega * view.w * view.r;
+            rp += p;
+            rpc += p * view.c;
+          }
+          mean = rpc / rp;
         }
-        mean = spc / sp;
-        float closest = 3.0e38;
-        for (uint i = 0u; i < kViews; ++i) {
-          const vec3 d = c[i] - mean;
-          e2[i] = dot(d, d) / v[i];
-          if (w[i] > 0.0) closest = min(closest, e2[i] / k[i]);
-        }
-        if (round < kRounds)
-          for (uint i = 0u; i < kViews; ++i) omega[i] = exp(closest - e2[i] / k[i]);
-      }
-      // The loss, Σ w_i K_i (1 − e^(−e²_i/K_i)), and its expectation under the noise model: a
-      // view's residual from the (plain) precision-weighted mean has variance a_i·v_i per
-      // channel, and E[K(1 − e^(−X/K))] = K(1 − (1 + 2a/K)^(−3/2)) for X = a·χ²₃.
-      float sp = 0.0, spw = 0.0;
-      for (uint i = 0u; i < kViews; ++i) {
-        const float p = w[i] / v[i];
-        sp += p;
-        spw += p * w[i];
-      }
-      for (uint i = 0u; i < kViews; ++i) {
-        if (!(w[i] > 0.0)) continue;
-        const float p = w[i] / v[i];
-        const float a = max(1.0 - 2.0 * p / sp + spw / (v[i] * sp * sp), 0.0);
-        chi2 += w[i] * k[i] * (1.0 - exp(-e2[i] / k[i]));
-        expected += w[i] * k[i] * (1.0 - pow(1.0 + 2.0 * a / k[i], -1.5));
-        if (e2[i] > k[i]) outliers += 1u;
+        LossAtMean(texel, mean, chi2, outliers);
       }
       // Views that all disagree are one event, not many: the texel is not what the cameras
       // see (something the scene lacks stands on it). It costs one average view's
       // saturation beyond the expectation, so hiding it gains no more than that.
-      chi2 = min(chi2, expected + swk / float(n));
+      chi2 = min(chi2, expected + pc.outlier * sw / float(n));
       texture_share = share / sw;
       mine.sum_squares = chi2 * pc.sigma2;
       mine.dof = expected;
@@ -125,17 +177,15 @@ Scalars CompositeTexel(uvec2 texel) {
     } else if (masked > 0u) {
       // A camera sees it, but a mask (the user's, clutter) hides it there and leaves fewer
       // than two to compare: unknown, not unverifiable surface; neither compared nor charged.
-      for (uint i = 0u; i < kViews; ++i)
-        if (w[i] > 0.0) mean = c[i];
+      mean = single;
       mine.masked = 1u;
     } else if (n == 1u) {
-      for (uint i = 0u; i < kViews; ++i)
-        if (w[i] > 0.0) mean = c[i];
+      mean = single;
       mine.seen_once = 1u;
       // What its view would cost were it an outlier: no texel can gain by escaping where
       // only one camera sees it (the cap above bounds every compared texel's excess by an
       // average view's saturation).
-      mine.unverified = swk;
+      mine.unverified = pc.outlier * sw;
     } else {
       mine.seen_none = 1u;
     }
@@ -149,6 +199,10 @@ Scalars CompositeTexel(uvec2 texel) {
 }
 
 void main() {
+  for (uint i = 0u; i < kViews; ++i) {
+    gains[i] = photometric[2u * i];
+    offsets[i] = photometric[2u * i + 1u];
+  }
   Scalars mine = ZeroScalars();
   const uint x = gl_GlobalInvocationID.x;
   const uint y0 = gl_WorkGroupID.y * kRows;

@@ -147,7 +147,7 @@ TexelStatistic ReferenceTexelStatistic(const std::vector<ViewSample>& views, con
   const double sigma = model.sigma / 255.0, K = model.outlier_chi2;
   const size_t n = views.size();
   std::vector<Eigen::Vector3d> c(n);
-  std::vector<double> w(n), v(n), k(n), omega(n, 1.0), e2(n);
+  std::vector<double> w(n), v(n), omega(n, 1.0), e2(n);
   for (size_t i = 0; i < n; ++i) {
     const auto& gain = photometric.gain[size_t(views[i].camera)];
     const auto& offset = photometric.offset[size_t(views[i].camera)];
@@ -156,12 +156,13 @@ TexelStatistic ReferenceTexelStatistic(const std::vector<ViewSample>& views, con
     const double mass = std::max(views[i].mass, 1.0);
     w[i] = views[i].weight;
     v[i] = sigma * sigma / mass + model.position_sd * model.position_sd * g * g;
-    k[i] = K;  // a view's loss saturates at K, whatever its mass (composite.comp)
   }
   TexelStatistic s;
-  // Consensus: precision-weighted mean reweighted by Welsch weights relative to the closest
-  // view, three times (composite.comp's kRounds).
-  for (int round = 0; round <= 3; ++round) {
+  // Consensus: the precision-weighted mean, reweighted (three rounds, composite.comp's
+  // kRounds) by Welsch weights that are 1 up to e² = K/3 and relative to the best-agreeing
+  // view beyond, unless every view is within K/3 of the plain mean.
+  const double flat = K / 3.0;
+  auto fit = [&]() {
     double sp = 0.0;
     Eigen::Vector3d spc = Eigen::Vector3d::Zero();
     for (size_t i = 0; i < n; ++i) {
@@ -170,29 +171,32 @@ TexelStatistic ReferenceTexelStatistic(const std::vector<ViewSample>& views, con
       spc += p * c[i];
     }
     s.mean = spc / sp;
+    double farthest = 0.0;
+    for (size_t i = 0; i < n; ++i) farthest = std::max(farthest, e2[i] = (c[i] - s.mean).squaredNorm() / v[i]);
+    return farthest;
+  };
+  const int rounds = fit() > flat ? 3 : 0;
+  for (int round = 0; round < rounds; ++round) {
     double closest = INFINITY;
-    for (size_t i = 0; i < n; ++i) {
-      e2[i] = (c[i] - s.mean).squaredNorm() / v[i];
-      closest = std::min(closest, e2[i] / k[i]);
-    }
-    if (round < 3)
-      for (size_t i = 0; i < n; ++i) omega[i] = std::exp(closest - e2[i] / k[i]);
+    for (size_t i = 0; i < n; ++i) closest = std::min(closest, e2[i]);
+    const double base = std::max(closest, flat);
+    for (size_t i = 0; i < n; ++i) omega[i] = std::exp((base - std::max(e2[i], flat)) / K);
+    fit();
   }
-  // Loss and its expectation: view i's residual from the plain precision-weighted mean has
-  // variance a_i·v_i per channel under the noise model.
-  double sp = 0.0, spw = 0.0;
-  for (size_t i = 0; i < n; ++i) sp += w[i] / v[i], spw += w[i] * w[i] / v[i];
+  // Loss: quadratic up to K/3, then saturating to K with a continuous slope. Its expectation
+  // under the noise model: 3(Σw − Σw·p/Σp) for the quadratic loss (view i's residual from the
+  // plain precision-weighted mean has variance a_i·v_i per channel and Σ w_i 3a_i is that);
+  // the saturation lowers it by under 0.3 %.
+  const double t = K / 3.0;
+  double sp = 0.0, spw = 0.0, sum_w = 0.0;
+  for (size_t i = 0; i < n; ++i) sp += w[i] / v[i], spw += w[i] * w[i] / v[i], sum_w += w[i];
   for (size_t i = 0; i < n; ++i) {
-    const double p = w[i] / v[i];
-    const double a = std::max(1.0 - 2.0 * p / sp + spw / (v[i] * sp * sp), 0.0);
-    s.chi2 += w[i] * k[i] * (1.0 - std::exp(-e2[i] / k[i]));
-    s.expected += w[i] * k[i] * (1.0 - std::pow(1.0 + 2.0 * a / k[i], -1.5));
-    s.outliers += e2[i] > k[i];
+    s.chi2 += w[i] * (e2[i] <= t ? e2[i] : t + (K - t) * (1.0 - std::exp((t - e2[i]) / (K - t))));
+    s.outliers += e2[i] > K;
   }
+  s.expected = 3.0 * std::max(sum_w - spw / sp, 0.0);
   // A texel whose views all disagree costs one average view's saturation beyond the expectation.
-  double sum_wk = 0.0;
-  for (size_t i = 0; i < n; ++i) sum_wk += w[i] * k[i];
-  s.chi2 = std::min(s.chi2, s.expected + sum_wk / double(n));
+  s.chi2 = std::min(s.chi2, s.expected + K * sum_w / double(n));
   return s;
 }
 
