@@ -57,7 +57,10 @@ struct View {
 View ReadView(uvec2 texel, uint i) {
   const uvec2 t = imageLoad(views, ivec3(texel, i)).xy;
   View view;
+  // Unseen views weigh exactly 0: the loops below select rather than `continue` (a
+  // `continue` per view made lavapipe's composite a fifth slower; bench/RESULTS.md).
   view.w = ViewWeight(t);
+  if (!(view.w > 0.0)) view.w = 0.0;
   view.masked = ViewMasked(t);
   const vec4 gain = gains[i], offset = offsets[i];
   view.c = gain.xyz * ViewColour(t) + offset.xyz;
@@ -90,11 +93,10 @@ float LossAtMean(uvec2 texel, vec3 mean, out float chi2, out uint outliers) {
   float farthest = 0.0;
   for (uint i = 0u; i < kViews; ++i) {
     const View view = LoadView(texel, i);
-    if (!(view.w > 0.0)) continue;
     const vec3 d = view.c - mean;
-    const float e2 = dot(d, d) * view.r;
+    const float e2 = view.w > 0.0 ? dot(d, d) * view.r : 0.0;
     chi2 += view.w * Loss(e2);
-    if (e2 > pc.outlier) outliers += 1u;
+    outliers += e2 > pc.outlier ? 1u : 0u;
     farthest = max(farthest, e2);
   }
   return farthest;
@@ -114,16 +116,16 @@ Scalars CompositeTexel(uvec2 texel) {
     for (uint i = 0u; i < kViews; ++i) {
       const View view = ReadView(texel, i);
       texel_views[i] = view;
-      if (view.masked) masked += 1u;
-      if (!(view.w > 0.0)) continue;
-      n += 1u;
+      masked += view.masked ? 1u : 0u;
+      const bool seen = view.w > 0.0;
+      n += seen ? 1u : 0u;
       sw += view.w;
-      share += view.w * view.textured * view.r;
-      const float p = view.w * view.r;
+      const float p = seen ? view.w * view.r : 0.0;
+      share += p * view.textured;
       sp += p;
       spw += p * view.w;
       spc += p * view.c;
-      single = view.c;
+      single = seen ? view.c : single;
     }
     if (n >= 2u) {
       // Consensus: the precision-weighted mean, reweighted by Welsch weights e^(−e²/K)
@@ -144,19 +146,17 @@ Scalars CompositeTexel(uvec2 texel) {
           float closest = 3.0e38;
           for (uint i = 0u; i < kViews; ++i) {
             const View view = LoadView(texel, i);
-            if (!(view.w > 0.0)) continue;
             const vec3 d = view.c - mean;
-            closest = min(closest, dot(d, d) * view.r);
+            closest = min(closest, view.w > 0.0 ? dot(d, d) * view.r : 3.0e38);
           }
           const float base = max(closest, flat_top);
           float rp = 0.0;
           vec3 rpc = vec3(0.0);
           for (uint i = 0u; i < kViews; ++i) {
             const View view = LoadView(texel, i);
-            if (!(view.w > 0.0)) continue;
             const vec3 d = view.c - mean;
             const float omega = exp((base - max(dot(d, d) * view.r, flat_top)) / pc.outlier);
-            const float p = omega * view.w * view.r;
+            const float p = view.w > 0.0 ? omega * view.w * view.r : 0.0;
             rp += p;
             rpc += p * view.c;
           }
