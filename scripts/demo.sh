@@ -19,7 +19,7 @@ echo "== 1/3 synth: reference images of $ASSET at its truth (160×120, noise σ 
 
 echo "== 2/3 run: reconstruct from those images"
 SETTINGS=(--set cameras="$OUT/images/cameras.json" --set images="$OUT/images"
-          --set likelihood.atlas=128 --set sampler.iterations=250)
+          --set likelihood.atlas=128 --set sampler.iterations=600)
 "$VKRECON" run "$ASSET/scene.json" "${SETTINGS[@]}" -o "$OUT/run"
 
 echo "== 3/3 render: 8 novel views of the reconstruction (EXR + PNG)"
