@@ -4,6 +4,8 @@
 #include <cstdio>
 #include <string>
 
+#include "pipelines/NoiseCalibration.h"
+
 namespace vkr::app {
 namespace {
 
@@ -24,11 +26,6 @@ constexpr double kRhat = 1.1;              // chains that disagree more have not
 // Clutter masks (ClutterMasks.h) keep only regions of outliers, which noise alone does not
 // make; a few pixels along silhouettes are still masked on the bundled assets at their truth.
 constexpr double kClutterShare = 0.02;
-// κ's sandwich H⁻¹J has eigenvalues of at least about 1 when texels are positively
-// correlated, as neighbouring texels are; one well below 1 means the curvature H measured
-// at the mode was too large (the likelihood is rough at one posterior sd: 8-bit views,
-// rasterisation), and the intervals are then too narrow (docs/LIKELIHOOD.md, Known limits).
-constexpr double kMinKappaEigenvalue = 1.0;
 
 std::string Format(const char* format, double a, double b = 0.0, double c = 0.0) {
   char buf[320];
@@ -135,7 +132,9 @@ Diagnosis Diagnose(const Scene& scene, const Evaluation& at_map, double sigma_25
   const nlohmann::json& calibration = summary.calibration;
   if (calibration.is_object() && calibration.contains("kappa_min") && calibration["kappa_min"].is_number()) {
     const double kappa_min = calibration["kappa_min"].get<double>();
-    if (kappa_min < kMinKappaEigenvalue) {
+    // Still below after the sampler measured the curvature again over wider steps
+    // (NoiseCalibration.h): the intervals may be too narrow.
+    if (kappa_min < kMinSandwichEigenvalue) {
       other.push_back(Format("the curvature measured at the mode is doubtful (the sandwich's smallest eigenvalue is "
                              "%.2f, below 1): kappa may be too small and the intervals too narrow; run again with "
                              "another sampler.seed",

@@ -33,7 +33,10 @@ class Target {
   // there, as the target scored so far (after an earlier calibration, with it). Afterwards
   // Evaluate() scores with them. Returns what was estimated (kept
   // in checkpoints and map.json), null when the target has nothing to estimate;
-  // RestoreCalibration puts a returned value back when a run resumes.
+  // RestoreCalibration puts a returned value back when a run resumes. A returned object with
+  // "curvature_doubtful": true says the curvature does not fit what the target found (the
+  // log posterior is rough at that scale): the sampler measures it again over wider steps
+  // and calls Calibrate once more.
   virtual nlohmann::json Calibrate(const std::vector<double>& psi, const std::vector<double>& covariance) {
     (void)psi;
     (void)covariance;

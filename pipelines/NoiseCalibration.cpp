@@ -21,7 +21,8 @@ const Image* FindImage(const LikelihoodDump& dump, const std::string& name) {
 nlohmann::json ToJson(const NoiseCalibration& c) {
   return {{"sigma", c.sigma},         {"position_sd", c.position_sd}, {"sigma_estimated", c.sigma_estimated},
           {"kappa", c.kappa},         {"kappa_min", c.kappa_min},     {"kappa_max", c.kappa_max},
-          {"blocks", c.blocks},       {"chi2_per_dof", c.chi2_per_dof}, {"photometric", c.photometric}};
+          {"blocks", c.blocks},       {"chi2_per_dof", c.chi2_per_dof}, {"photometric", c.photometric},
+          {"curvature_doubtful", c.CurvatureDoubtful()}};
 }
 
 NoiseCalibration NoiseCalibrationFromJson(const nlohmann::json& j) {

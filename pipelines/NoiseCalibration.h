@@ -31,6 +31,13 @@
 
 namespace vkr {
 
+// H⁻¹J has eigenvalues of at least about 1 when texels are positively correlated, as
+// neighbouring texels are; one below this means the curvature H measured at the mode was
+// too large (the likelihood is rough at one posterior sd: 8-bit views, rasterisation) and
+// κ too small. ToJson says so ("curvature_doubtful"), the sampler then measures H again over
+// wider steps (optimiser/Settle.cpp), and a diagnosis that still sees it doubts the intervals.
+constexpr double kMinSandwichEigenvalue = 1.0;
+
 struct NoiseCalibration {
   double sigma = 8.0;            // noise sd on the 0–255 scale, used after calibration
   double position_sd = 0.5;      // δ, pixels: the noise's texture term
@@ -43,6 +50,8 @@ struct NoiseCalibration {
   // What the photographs show that the scene leaves out, masked from then on (ClutterMasks.h;
   // not in ToJson: images travel as files, apps/ keeps them).
   ClutterMasks clutter;
+
+  bool CurvatureDoubtful() const { return kappa_min < kMinSandwichEigenvalue; }
 };
 
 nlohmann::json ToJson(const NoiseCalibration& calibration);

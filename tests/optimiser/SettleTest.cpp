@@ -147,5 +147,40 @@ TEST(Settle, CalibrationAtTheModeWidensThePosteriorAndSurvivesResume) {
   }
 }
 
+// A target that doubts every curvature it is given (Target::Calibrate): at each settling
+// round the sampler measures it again over wider steps, calibrates once more, says so, and
+// goes on (it does not loop).
+class DoubtingTarget : public CalibratingTarget {
+ public:
+  using CalibratingTarget::CalibratingTarget;
+  nlohmann::json Calibrate(const std::vector<double>& psi, const std::vector<double>& covariance) override {
+    nlohmann::json j = CalibratingTarget::Calibrate(psi, covariance);
+    ++calls;
+    j["curvature_doubtful"] = true;
+    return j;
+  }
+  int calls = 0;
+};
+
+TEST(Settle, ADoubtedCurvatureIsMeasuredAgainOverWiderSteps) {
+  const NarrowPosterior n;
+  const Gaussian g(n.mu, n.Covariance());
+  const int rounds = NarrowOptions().settle_rounds;
+  ASSERT_GE(rounds, 1);
+  DoubtingTarget doubting(g, 4.0);
+  SamplerSummary s;
+  ASSERT_TRUE(opt::Run(NarrowOptions(), n.Parameters(), doubting, &s)) << s.message;
+  EXPECT_EQ(doubting.calls, 2 * rounds);
+  EXPECT_EQ(s.calibration.value("curvature_step_scale", 0.0), 4.0);
+  // A Gaussian has the same curvature at any step: the wider steps still find it.
+  for (int i = 0; i < 4; ++i)
+    EXPECT_NEAR(s.parameters[size_t(i)].laplace_sd, 2.0 * n.sd[i], 0.1 * n.sd[i]) << i;
+
+  CalibratingTarget trusting(g, 4.0);
+  SamplerSummary t;
+  ASSERT_TRUE(opt::Run(NarrowOptions(), n.Parameters(), trusting, &t)) << t.message;
+  EXPECT_FALSE(t.calibration.contains("curvature_step_scale"));
+}
+
 }  // namespace
 }  // namespace vkr::opt::test
