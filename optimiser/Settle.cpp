@@ -14,8 +14,9 @@
 namespace vkr::opt::detail {
 namespace {
 
-// Steps for the second measurement when the target doubts the first: the poster above
-// needed 4 sds to give κ 37 (4/4 intervals hold the truth) where 1 sd gave κ 2.7.
+// Steps for the second measurement when the target doubts the first: on the poster at
+// σ = 16 (docs/NOISE_STUDY.md) steps of one sd gave κ 2.7 and 1 of 4 intervals holding the
+// truth, steps of 4 sds κ 17.7–37 and 4 of 4 (docs/LIKELIHOOD.md, "Honest intervals").
 constexpr double kWideCurvatureSteps = 4.0;
 
 // Finite-difference step per parameter: about one posterior sd, as the refinement's
