@@ -32,17 +32,22 @@ Overlap Compare(const Scene& scene, const ClutterMasks& clutter) {
   return {pole_hit / pole, rest_hit / rest};
 }
 
+// One level of a 128² atlas, at the photographs' noise.
+SurfaceLikelihoodOptions SmallOptions(const Scene& scene) {
+  SurfaceLikelihoodOptions options = SurfaceLikelihoodOptions::FromScene(scene);
+  options.atlas = 128;
+  options.levels = 1;
+  options.model.sigma = 4.0;
+  return options;
+}
+
 TEST_F(GpuTest, ClutterMasksCoverWhatTheSceneLeavesOut) {
   TempDir dir;
   std::vector<double> truth;
   ShootBox(device(), {std::nullopt, true, 4.0}, dir, true, &truth);
   const Scene with_masks = ReloadBox({std::nullopt, true, 4.0}, dir, true);  // for the pole's true mask
   const Scene scene = ReloadBox({std::nullopt, true, 4.0}, dir, false);
-  SurfaceLikelihoodOptions options = SurfaceLikelihoodOptions::FromScene(scene);
-  options.atlas = 128;
-  options.levels = 1;
-  options.model.sigma = 4.0;
-  SurfaceLikelihood likelihood(device(), scene, options);
+  SurfaceLikelihood likelihood(device(), scene, SmallOptions(scene));
   const ClutterMasks clutter = FindClutter(device(), likelihood, truth);
   ASSERT_EQ(clutter.masks.size(), scene.cameras.size());
   const Overlap o = Compare(with_masks, clutter);
@@ -64,11 +69,7 @@ TEST_F(GpuTest, PhotographsOfExactlyTheSceneHaveNoClutter) {
   TempDir dir;
   std::vector<double> truth;
   const Scene scene = ShootBox(device(), {std::nullopt, false, 4.0}, dir, false, &truth);
-  SurfaceLikelihoodOptions options = SurfaceLikelihoodOptions::FromScene(scene);
-  options.atlas = 128;
-  options.levels = 1;
-  options.model.sigma = 4.0;
-  SurfaceLikelihood likelihood(device(), scene, options);
+  SurfaceLikelihood likelihood(device(), scene, SmallOptions(scene));
   const ClutterMasks clutter = FindClutter(device(), likelihood, truth);
   double worst = 0.0;
   for (double share : clutter.share) worst = std::max(worst, share);
