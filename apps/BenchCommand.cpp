@@ -1,4 +1,4 @@
-// `vkrecon bench`: parses its options and calls RunBenchmarks (pipelines/Bench.h).
+// `vkrecon bench`: parses its options and calls RunBenchmarks (bench/harness/Bench.h).
 #include <unistd.h>
 
 #include <cstdlib>
@@ -6,7 +6,7 @@
 
 #include "apps/Commands.h"
 #include "engine/common/InputError.h"
-#include "pipelines/Bench.h"
+#include "bench/harness/Bench.h"
 
 namespace fs = std::filesystem;
 

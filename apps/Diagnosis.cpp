@@ -4,7 +4,7 @@
 #include <cstdio>
 #include <string>
 
-#include "pipelines/NoiseCalibration.h"
+#include "pipelines/likelihood/NoiseCalibration.h"
 
 namespace vkr::app {
 namespace {

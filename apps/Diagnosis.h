@@ -12,9 +12,9 @@
 
 #include "engine/scene/Scene.h"
 #include "optimiser/Sampler.h"
-#include "pipelines/Evaluation.h"
-#include "pipelines/ModelExport.h"
-#include "pipelines/Residuals.h"
+#include "pipelines/model/Evaluation.h"
+#include "pipelines/rendering/ModelExport.h"
+#include "pipelines/likelihood/Residuals.h"
 
 namespace vkr::app {
 

@@ -6,7 +6,7 @@
 
 #include "apps/Commands.h"
 #include "engine/common/InputError.h"
-#include "pipelines/LikelihoodTool.h"
+#include "pipelines/likelihood/LikelihoodTool.h"
 
 namespace fs = std::filesystem;
 

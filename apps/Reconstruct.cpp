@@ -16,11 +16,11 @@
 #include "engine/common/InputError.h"
 #include "engine/geometry/SceneGeometry.h"
 #include "optimiser/Sampler.h"
-#include "pipelines/LikelihoodTool.h"
-#include "pipelines/ModelExport.h"
-#include "pipelines/NoiseCalibration.h"
-#include "pipelines/Residuals.h"
-#include "pipelines/SurfaceLikelihood.h"
+#include "pipelines/likelihood/LikelihoodTool.h"
+#include "pipelines/rendering/ModelExport.h"
+#include "pipelines/likelihood/NoiseCalibration.h"
+#include "pipelines/likelihood/Residuals.h"
+#include "pipelines/likelihood/SurfaceLikelihood.h"
 
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;

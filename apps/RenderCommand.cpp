@@ -1,7 +1,7 @@
 #include <iostream>
 
 #include "apps/Commands.h"
-#include "pipelines/ViewRendering.h"
+#include "pipelines/rendering/ViewRendering.h"
 
 namespace vkr::app {
 

@@ -2,7 +2,7 @@
 
 #include "apps/Commands.h"
 #include "engine/scene/LensDistortion.h"
-#include "pipelines/ViewRendering.h"
+#include "pipelines/rendering/ViewRendering.h"
 
 namespace vkr::app {
 

@@ -1,7 +1,7 @@
 #version 460
 // Composite + deviation pass (thesis §6) fused with the first level of the reduction: per
 // texel a robust consensus colour over the views and each view's robust deviation from it
-// (pipelines/Evaluation.h gives the model and the formulas), then one partial sum per
+// (pipelines/model/Evaluation.h gives the model and the formulas), then one partial sum per
 // workgroup. A workgroup is one subgroup (local_size_x = its size, CompositePass.cpp); each
 // invocation sums a column of kRows texels, then the subgroup adds its lanes.
 #extension GL_GOOGLE_include_directive : require
@@ -20,7 +20,7 @@ layout(std430, set = 0, binding = 2) writeonly buffer Partials { Scalars partial
 layout(set = 0, binding = 3, rgba32f) uniform writeonly image2D composite_out;
 layout(set = 0, binding = 4, rgba32f) uniform writeonly image2D deviation_out;
 // Per view: gain (xyz; w = their mean, which scales the image texture too) and offset (xyz)
-// of the photometric correction c' = gain·c + offset (pipelines/Photometric.h).
+// of the photometric correction c' = gain·c + offset (pipelines/model/Photometric.h).
 layout(std430, set = 0, binding = 5) readonly buffer Photometric { vec4 photometric[]; };
 layout(set = 0, binding = 6, rgba32f) uniform writeonly image2D noise_out;
 

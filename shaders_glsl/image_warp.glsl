@@ -8,7 +8,7 @@
 // pair's χ² (≥ 0), or kNotSeenBySource (−1) where only t sees the surface; pixels where t
 // sees no surface keep the clear value (−2).
 //
-// Noise model (pipelines/Evaluation.h, docs/IMAGE_SPACE.md): r_t at the pixel carries noise
+// Noise model (pipelines/model/Evaluation.h, docs/IMAGE_SPACE.md): r_t at the pixel carries noise
 // σ², the sample of r_s ν_s σ² (ν_s < 1 because bilinear interpolation and prefiltering
 // average pixels), and each image δ²|∇I|² more for a projection uncertain by δ pixels. So
 // the difference of the two has variance σ² (1 + ν_s + b_t² + b_s²) per channel with

@@ -1,5 +1,5 @@
 // Push constants and per-camera records of the image-space warp pass (thesis §4.2–4.3);
-// pipelines/PairWarpPass.cpp mirrors both.
+// pipelines/passes/PairWarpPass.cpp mirrors both.
 
 // One camera of one hypothesis (std430: 80 bytes).
 struct WarpCamera {
@@ -17,7 +17,7 @@ layout(push_constant) uniform Push {
   float level;                   // pyramid level
   float inv_sigma2;              // 1 / σ² on the [0,1] colour scale
   float cap;                     // per-dof cap of a pixel pair's χ² (3 dof per pair)
-  float position_sd_over_sigma;  // δ/σ of the noise model (pipelines/Evaluation.h)
+  float position_sd_over_sigma;  // δ/σ of the noise model (pipelines/model/Evaluation.h)
   float depth_tolerance;         // relative tolerance of the shadow-map test in s
   float near;                    // near plane (Projection.h)
   float depth_equal;             // relative slack of the depth-equal test against t's depth map

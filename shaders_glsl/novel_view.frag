@@ -8,7 +8,7 @@
 #include "novel_view_push.glsl"
 
 layout(set = 0, binding = 1) uniform sampler2D atlas;
-// The scene's depth seen from the sun (reversed, orthographic; pipelines/SunLight.h), read
+// The scene's depth seen from the sun (reversed, orthographic; pipelines/rendering/SunLight.h), read
 // with depth comparison off: the shader compares itself, over 3×3 texels (soft edges).
 layout(set = 0, binding = 2) uniform sampler2D shadow_map;
 layout(std140, set = 0, binding = 3) uniform Lighting {

@@ -1,7 +1,7 @@
 #version 460
 // Draws the scene from one camera (synth, render): node-frame vertices are placed by the
 // hypothesis's node matrices and projected with the camera's clip_from_world, which
-// carries K, [R|t] and a reversed, infinite-far depth (pipelines/Projection.h).
+// carries K, [R|t] and a reversed, infinite-far depth (pipelines/passes/Projection.h).
 #extension GL_GOOGLE_include_directive : require
 #include "novel_view_push.glsl"
 

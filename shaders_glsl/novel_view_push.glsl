@@ -1,4 +1,4 @@
-// Push constants of the novel-view pass (pipelines/NovelViewPass.cpp mirrors them).
+// Push constants of the novel-view pass (pipelines/passes/NovelViewPass.cpp mirrors them).
 layout(push_constant) uniform Push {
   mat4 clip_from_world;
   uint node_offset;  // first matrix of this hypothesis in world_from_node

@@ -1,7 +1,7 @@
 #ifndef SCALARS_GLSL
 #define SCALARS_GLSL
-// The per-hypothesis scalars (pipelines/Evaluation.h ReducedScalars), as partial sums per
-// workgroup and as final results; mirrored by struct GpuScalars in pipelines/ReducePass.cpp.
+// The per-hypothesis scalars (pipelines/model/Evaluation.h ReducedScalars), as partial sums per
+// workgroup and as final results; mirrored by struct GpuScalars in pipelines/passes/ReducePass.cpp.
 struct Scalars {
   float sum_squares;
   float dof;

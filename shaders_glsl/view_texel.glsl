@@ -1,7 +1,7 @@
 #ifndef VIEW_TEXEL_GLSL
 #define VIEW_TEXEL_GLSL
 // One view-specific texel (thesis §5.2) in two 32-bit words of an R32G32_UINT image,
-// mirrored by pipelines/ViewTexel.h: the colour the camera saw at 8 bits per channel (the
+// mirrored by pipelines/passes/ViewTexel.h: the colour the camera saw at 8 bits per channel (the
 // references are 8-bit) with the image texture g = |∇I| where it sampled (the composite's
 // noise model grows with it), then, as halves, the view's weight w (§6.3; 0 where the
 // camera cannot see the texel) and its pixel mass: how many full-resolution pixels the

@@ -1,4 +1,4 @@
-// Push constants of the view-specific texture pass (pipelines/ViewTexturePass.cpp mirrors it).
+// Push constants of the view-specific texture pass (pipelines/passes/ViewTexturePass.cpp mirrors it).
 layout(push_constant) uniform Push {
   mat4 clip_from_world;   // camera i (full-resolution K: NDC does not depend on the level)
   vec4 centre_texel_area; // camera centre (xyz), world area of one full-resolution atlas texel (w)

@@ -88,7 +88,7 @@ struct CameraModel {
   // world_from_cam' = pose · world_from_cam.
   std::vector<Transform> pose;
   // The lens (None: a pinhole). A camera with distortion has a constant K: its photograph
-  // is undistorted once, with that K, when it is loaded (pipelines/LensWarp.h).
+  // is undistorted once, with that K, when it is loaded (pipelines/rendering/LensWarp.h).
   LensDistortion distortion;
   // The validity mask (absolute path, 0 = ignore that pixel), or empty: every pixel counts.
   // Found by the masks folder rule of docs/SCENE_FORMAT.md, "Masks".
@@ -125,10 +125,10 @@ struct LikelihoodSettings {
   int atlas = 1024;              // atlas side in texels
   int levels = 3;                // pyramid levels
   // Per-camera colour correction of the surface likelihood: "none", "gain" or "affine"
-  // (pipelines/Photometric.h).
+  // (pipelines/model/Photometric.h).
   std::string photometric = "affine";
   // Mask what the photographs show that the scene leaves out, found at the mode a run
-  // settles on (pipelines/ClutterMasks.h).
+  // settles on (pipelines/likelihood/ClutterMasks.h).
   bool clutter = true;
 };
 

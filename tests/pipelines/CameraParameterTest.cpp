@@ -20,8 +20,8 @@
 #include <nlohmann/json.hpp>
 
 #include "engine/common/InputError.h"
-#include "pipelines/SurfaceLikelihood.h"
-#include "pipelines/ViewRendering.h"
+#include "pipelines/likelihood/SurfaceLikelihood.h"
+#include "pipelines/rendering/ViewRendering.h"
 #include "tests/common/GpuTest.h"
 #include "tests/common/TestFiles.h"
 #include "tests/pipelines/SynthesisedAsset.h"

@@ -5,8 +5,8 @@
 
 #include <gtest/gtest.h>
 
-#include "pipelines/ClutterMasks.h"
-#include "pipelines/SurfaceLikelihood.h"
+#include "pipelines/likelihood/ClutterMasks.h"
+#include "pipelines/likelihood/SurfaceLikelihood.h"
 #include "tests/common/GpuTest.h"
 #include "tests/pipelines/RealCameraScenes.h"
 

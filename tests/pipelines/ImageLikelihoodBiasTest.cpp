@@ -24,9 +24,9 @@
 #include <sstream>
 
 #include "engine/image/LinePlot.h"
-#include "pipelines/ImageLikelihood.h"
-#include "pipelines/SurfaceLikelihood.h"
-#include "pipelines/ViewRendering.h"
+#include "pipelines/likelihood/ImageLikelihood.h"
+#include "pipelines/likelihood/SurfaceLikelihood.h"
+#include "pipelines/rendering/ViewRendering.h"
 #include "tests/common/GpuTest.h"
 #include "tests/common/TestFiles.h"
 #include "tests/pipelines/SignScene.h"

@@ -10,8 +10,8 @@
 #include <cstdio>
 #include <cstdlib>
 
-#include "pipelines/ImageLikelihood.h"
-#include "pipelines/ViewRendering.h"
+#include "pipelines/likelihood/ImageLikelihood.h"
+#include "pipelines/rendering/ViewRendering.h"
 #include "tests/common/GpuTest.h"
 #include "tests/common/TestFiles.h"
 #include "tests/pipelines/SynthesisedAsset.h"

@@ -8,8 +8,8 @@
 #include <cstring>
 
 #include "engine/common/InputError.h"
-#include "pipelines/ImageLikelihood.h"
-#include "pipelines/ViewRendering.h"
+#include "pipelines/likelihood/ImageLikelihood.h"
+#include "pipelines/rendering/ViewRendering.h"
 #include "tests/common/GpuTest.h"
 #include "tests/common/TestFiles.h"
 

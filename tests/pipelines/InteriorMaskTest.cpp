@@ -9,7 +9,7 @@
 #include <cstdio>
 #include <string>
 
-#include "pipelines/ViewRendering.h"
+#include "pipelines/rendering/ViewRendering.h"
 #include "tests/common/GpuTest.h"
 #include "tests/pipelines/SurfaceReference.h"
 

@@ -1,4 +1,4 @@
-// Photographs through a lens (pipelines/LensWarp.h): undistorted once on load, they equal
+// Photographs through a lens (pipelines/rendering/LensWarp.h): undistorted once on load, they equal
 // the pinhole render of the same K away from the border, the border that falls outside the
 // photograph is marked invalid, and the surface likelihood on distorted photographs read
 // through a COLMAP OPENCV model peaks at the truth like the one on pinhole photographs.
@@ -7,8 +7,8 @@
 
 #include <cmath>
 
-#include "pipelines/ReferenceImages.h"
-#include "pipelines/SurfaceLikelihood.h"
+#include "pipelines/likelihood/ReferenceImages.h"
+#include "pipelines/likelihood/SurfaceLikelihood.h"
 #include "tests/common/GpuTest.h"
 #include "tests/pipelines/RealCameraScenes.h"
 

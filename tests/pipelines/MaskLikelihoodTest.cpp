@@ -9,8 +9,8 @@
 #include <cstring>
 #include <random>
 
-#include "pipelines/ImageLikelihood.h"
-#include "pipelines/SurfaceLikelihood.h"
+#include "pipelines/likelihood/ImageLikelihood.h"
+#include "pipelines/likelihood/SurfaceLikelihood.h"
 #include "tests/common/GpuTest.h"
 #include "tests/pipelines/RealCameraScenes.h"
 #include "tests/pipelines/SurfaceReference.h"

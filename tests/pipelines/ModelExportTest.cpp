@@ -6,9 +6,9 @@
 #include <tiny_gltf.h>
 
 #include "engine/geometry/Mesh.h"
-#include "pipelines/ModelExport.h"
-#include "pipelines/SurfaceLikelihood.h"
-#include "pipelines/ViewRendering.h"
+#include "pipelines/rendering/ModelExport.h"
+#include "pipelines/likelihood/SurfaceLikelihood.h"
+#include "pipelines/rendering/ViewRendering.h"
 #include "tests/common/GpuTest.h"
 #include "tests/common/TestFiles.h"
 

@@ -9,8 +9,8 @@
 #include <cmath>
 #include <sstream>
 
-#include "pipelines/SurfaceLikelihood.h"
-#include "pipelines/ViewRendering.h"
+#include "pipelines/likelihood/SurfaceLikelihood.h"
+#include "pipelines/rendering/ViewRendering.h"
 #include "tests/common/GpuTest.h"
 #include "tests/common/TestFiles.h"
 

@@ -7,8 +7,8 @@
 #include <cmath>
 
 #include "engine/geometry/SceneGeometry.h"
-#include "pipelines/GpuScene.h"
-#include "pipelines/NovelViewPass.h"
+#include "pipelines/passes/GpuScene.h"
+#include "pipelines/passes/NovelViewPass.h"
 #include "tests/common/GpuTest.h"
 #include "tests/common/TestFiles.h"
 

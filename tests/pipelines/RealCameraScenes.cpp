@@ -2,7 +2,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "pipelines/ViewRendering.h"
+#include "pipelines/rendering/ViewRendering.h"
 
 namespace vkr::test {
 namespace {

@@ -5,7 +5,7 @@
 
 #include <Eigen/Dense>
 
-#include "pipelines/ViewRendering.h"
+#include "pipelines/rendering/ViewRendering.h"
 
 namespace vkr::test {
 namespace {

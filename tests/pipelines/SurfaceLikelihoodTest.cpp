@@ -12,7 +12,7 @@
 #include <cstdio>
 #include <string>
 
-#include "pipelines/Projection.h"
+#include "pipelines/passes/Projection.h"
 #include "tests/common/GpuTest.h"
 #include "tests/pipelines/SurfaceReference.h"
 

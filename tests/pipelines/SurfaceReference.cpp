@@ -12,9 +12,9 @@
 #include <stdexcept>
 
 #include "engine/image/Pyramid.h"
-#include "pipelines/Projection.h"
-#include "pipelines/ReferenceImages.h"
-#include "pipelines/ViewRendering.h"
+#include "pipelines/passes/Projection.h"
+#include "pipelines/likelihood/ReferenceImages.h"
+#include "pipelines/rendering/ViewRendering.h"
 
 namespace vkr::test {
 namespace {

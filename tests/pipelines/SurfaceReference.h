@@ -19,8 +19,8 @@
 #include "engine/image/Image.h"
 #include "engine/scene/Scene.h"
 #include "engine/vk/Device.h"
-#include "pipelines/Evaluation.h"
-#include "pipelines/SurfaceLikelihood.h"
+#include "pipelines/model/Evaluation.h"
+#include "pipelines/likelihood/SurfaceLikelihood.h"
 #include "tests/common/TestFiles.h"
 
 namespace vkr::test {

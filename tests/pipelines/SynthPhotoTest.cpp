@@ -9,7 +9,7 @@
 
 #include "engine/image/Exposure.h"
 #include "engine/image/Image.h"
-#include "pipelines/ViewRendering.h"
+#include "pipelines/rendering/ViewRendering.h"
 #include "tests/common/GpuTest.h"
 #include "tests/common/TestFiles.h"
 

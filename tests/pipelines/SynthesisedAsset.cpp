@@ -1,6 +1,6 @@
 #include "tests/pipelines/SynthesisedAsset.h"
 
-#include "pipelines/ViewRendering.h"
+#include "pipelines/rendering/ViewRendering.h"
 
 namespace vkr::test {
 

@@ -9,7 +9,7 @@
 
 #include <cmath>
 
-#include "pipelines/SurfaceLikelihood.h"
+#include "pipelines/likelihood/SurfaceLikelihood.h"
 #include "tests/common/GpuTest.h"
 #include "tests/common/TestFiles.h"
 #include "tests/pipelines/SignScene.h"

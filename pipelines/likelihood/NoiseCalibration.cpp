@@ -1,0 +1,198 @@
+#include "pipelines/likelihood/NoiseCalibration.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include <Eigen/Dense>
+#include <nlohmann/json.hpp>
+
+namespace vkr {
+namespace {
+
+const Image* FindImage(const LikelihoodDump& dump, const std::string& name) {
+  for (const DumpImage& d : dump.images)
+    if (d.name == name) return &d.image;
+  return nullptr;
+}
+
+}  // namespace
+
+nlohmann::json ToJson(const NoiseCalibration& c) {
+  return {{"sigma", c.sigma},         {"position_sd", c.position_sd}, {"sigma_estimated", c.sigma_estimated},
+          {"kappa", c.kappa},         {"kappa_min", c.kappa_min},     {"kappa_max", c.kappa_max},
+          {"blocks", c.blocks},       {"chi2_per_dof", c.chi2_per_dof}, {"photometric", c.photometric},
+          {"curvature_doubtful", c.CurvatureDoubtful()}};
+}
+
+NoiseCalibration NoiseCalibrationFromJson(const nlohmann::json& j) {
+  try {
+    NoiseCalibration c;
+    c.sigma = j.at("sigma").get<double>();
+    c.position_sd = j.at("position_sd").get<double>();
+    c.photometric = j.at("photometric");
+    c.sigma_estimated = j.at("sigma_estimated").get<bool>();
+    c.kappa = j.at("kappa").get<double>();
+    c.kappa_min = j.at("kappa_min").get<double>();
+    c.kappa_max = j.at("kappa_max").get<double>();
+    c.blocks = j.at("blocks").get<int>();
+    c.chi2_per_dof = j.at("chi2_per_dof").get<double>();
+    if (!(c.sigma > 0.0) || !(c.kappa > 0.0) || !(c.position_sd >= 0.0))
+      throw std::invalid_argument("sigma, position_sd or kappa out of range");
+    return c;
+  } catch (const nlohmann::json::exception& e) {
+    throw std::invalid_argument(std::string("noise calibration: ") + e.what());
+  }
+}
+
+namespace {
+
+constexpr int kBlock = 8;  // texels per side of a sandwich block
+
+// Per texel, its term of the log-likelihood, −½ (s_t/σ² − d_t), from a dump's deviation
+// image (r = s_t/σ² capped, g = d_t); empty without one.
+std::vector<double> TexelLogLikelihood(const LikelihoodDump& dump, bool chi2_correction, int* width) {
+  const Image* deviation = FindImage(dump, "deviation");
+  if (!deviation) return {};
+  *width = deviation->width;
+  std::vector<double> out(size_t(deviation->width) * deviation->height);
+  for (int y = 0; y < deviation->height; ++y)
+    for (int x = 0; x < deviation->width; ++x) {
+      const float* d = deviation->At(x, y);
+      out[size_t(y) * deviation->width + x] = -0.5 * (double(d[0]) - (chi2_correction ? double(d[1]) : 0.0));
+    }
+  return out;
+}
+
+// κ = tr(H⁻¹J)/d and the eigenvalue range of H⁻¹J (NoiseCalibration.h).
+void SandwichFactor(Likelihood& likelihood, const std::vector<double>& psi, const Eigen::MatrixXd& inverse_h,
+                    NoiseCalibration* c) {
+  const int d = int(psi.size());
+  const bool correction = likelihood.model().chi2_correction;
+  std::vector<std::vector<double>> gradient(static_cast<size_t>(d));  // per parameter, per texel
+  int width = 0;
+  for (int i = 0; i < d; ++i) {
+    const double h = std::sqrt(std::max(inverse_h(i, i), 0.0));
+    if (!(h > 0.0) || !std::isfinite(h)) return;
+    std::vector<double> plus = psi, minus = psi;
+    plus[size_t(i)] += h;
+    minus[size_t(i)] -= h;
+    const std::vector<double> up = TexelLogLikelihood(likelihood.EvaluateAndDump(plus, nullptr), correction, &width);
+    const std::vector<double> down = TexelLogLikelihood(likelihood.EvaluateAndDump(minus, nullptr), correction, &width);
+    if (up.empty() || up.size() != down.size()) return;
+    gradient[size_t(i)].resize(up.size());
+    for (size_t t = 0; t < up.size(); ++t) gradient[size_t(i)][t] = (up[t] - down[t]) / (2.0 * h);
+  }
+  const int height = int(gradient[0].size()) / width;
+  Eigen::MatrixXd j = Eigen::MatrixXd::Zero(d, d);
+  int blocks = 0;
+  for (int by = 0; by < height; by += kBlock)
+    for (int bx = 0; bx < width; bx += kBlock) {
+      Eigen::VectorXd g = Eigen::VectorXd::Zero(d);
+      for (int y = by; y < std::min(height, by + kBlock); ++y)
+        for (int x = bx; x < std::min(width, bx + kBlock); ++x)
+          for (int i = 0; i < d; ++i) g[i] += gradient[size_t(i)][size_t(y) * width + x];
+      if (g.squaredNorm() == 0.0) continue;
+      j += g * g.transpose();
+      ++blocks;
+    }
+  c->blocks = blocks;
+  if (blocks < 2 * d) return;  // too few to estimate J: keep κ = 1
+  const Eigen::MatrixXd m = inverse_h * j;
+  const Eigen::VectorXcd eigen = m.eigenvalues();
+  c->kappa = std::clamp(m.trace() / double(d), 1e-3, 1e6);
+  c->kappa_min = eigen.real().minCoeff();
+  c->kappa_max = eigen.real().maxCoeff();
+}
+
+}  // namespace
+
+namespace {
+
+// σ and δ such that χ = N over all texels and over the textured ones (NoiseCalibration.h).
+// A texel whose noise model puts a share u of its variance on the texture term has
+// χ/d ≈ (1 − u)·s + u·r when the true σ² and δ² are s and r times the model's; the two
+// weighted sums give s and r, and a few rounds settle the robust loss and the weights.
+void EstimateSigmaAndDelta(Likelihood& likelihood, const std::vector<double>& psi, double sigma_floor,
+                           NoiseCalibration* c) {
+  constexpr double kMinDelta = 0.05, kMaxDelta = 4.0;  // pixels
+  for (int round = 0; round < 6; ++round) {
+    const LikelihoodDump dump = likelihood.EvaluateAndDump(psi, nullptr);
+    const Image* deviation = FindImage(dump, "deviation");
+    const Image* noise = FindImage(dump, "noise");
+    if (!deviation) return;
+    double a11 = 0, a12 = 0, a22 = 0, b1 = 0, b2 = 0;
+    for (size_t t = 0; t < deviation->rgba.size(); t += 4) {
+      const double chi = deviation->rgba[t], d = deviation->rgba[t + 1];
+      if (!(d > 0.0)) continue;
+      const double u = noise ? std::clamp(double(noise->rgba[t]), 0.0, 1.0) : 0.0;
+      a11 += d * (1 - u), a12 += d * u, a22 += d * u * u, b1 += chi, b2 += u * chi;
+    }
+    if (!(a11 + a12 > 0.0)) return;
+    // Σ d u(1−u) = a12 − a22.
+    const double m11 = a11, m12 = a12, m21 = a12 - a22, m22 = a22;
+    const double det = m11 * m22 - m12 * m21;
+    double s = b1 / (a11 + a12), r = s;  // without texture to tell them apart: one factor
+    if (noise && det > 1e-3 * (m11 + m22) * (m11 + m22)) {
+      s = (b1 * m22 - m12 * b2) / det;
+      r = (m11 * b2 - m21 * b1) / det;
+    }
+    if (!(s > 0.0)) s = 1e-2;
+    if (!(r > 0.0)) r = 1e-2;
+    const double sigma = std::max(c->sigma * std::sqrt(s), sigma_floor);
+    const double delta = std::clamp(c->position_sd * std::sqrt(r), kMinDelta, kMaxDelta);
+    const bool settled = std::abs(sigma - c->sigma) < 1e-3 * c->sigma && std::abs(delta - c->position_sd) < 1e-3 * c->position_sd;
+    c->sigma = sigma;
+    c->position_sd = delta;
+    likelihood.SetSigma(c->sigma);
+    likelihood.SetPositionSd(c->position_sd);
+    if (settled) return;
+  }
+}
+
+}  // namespace
+
+NoiseCalibration CalibrateNoise(Likelihood& likelihood, const std::vector<double>& psi,
+                                const std::vector<double>& covariance, double current_kappa,
+                                bool estimate_sigma, bool mask_clutter, double sigma_floor) {
+  const int level = likelihood.level();
+  likelihood.SetLevel(0);
+  NoiseCalibration c;
+  c.photometric = likelihood.CalibratePhotometric(psi);
+  const double sigma_before = likelihood.model().sigma;
+  c.sigma = sigma_before;
+  c.position_sd = likelihood.model().position_sd;
+  c.sigma_estimated = estimate_sigma;
+  const double delta_before = c.position_sd;
+  if (estimate_sigma) EstimateSigmaAndDelta(likelihood, psi, sigma_floor, &c);
+  if (mask_clutter) {
+    c.clutter = likelihood.MaskClutter(psi);
+    if (estimate_sigma && !c.clutter.masks.empty()) EstimateSigmaAndDelta(likelihood, psi, sigma_floor, &c);
+  }
+  // The same deviations (final correction and masks) under the old and the new noise model.
+  likelihood.SetSigma(sigma_before);
+  likelihood.SetPositionSd(delta_before);
+  const ReducedScalars before = likelihood.Evaluate({psi})[0].scalars;
+  likelihood.SetSigma(c.sigma);
+  likelihood.SetPositionSd(c.position_sd);
+  const ReducedScalars after = likelihood.Evaluate({psi})[0].scalars;
+  c.chi2_per_dof = Chi2PerDof(after, c.sigma);
+  const size_t d = psi.size();
+  if (covariance.size() == d * d && d > 0) {
+    // The curvature of the raw log-likelihood under the new noise model: undo κ, and scale
+    // by how much the noise model changed the χ² of the same deviations (its precisions
+    // changed by about that much; for σ alone it is σ²_before/σ²; the N term has no curvature).
+    Eigen::MatrixXd inverse_h(d, d);
+    for (size_t i = 0; i < d; ++i)
+      for (size_t k = 0; k < d; ++k) inverse_h(Eigen::Index(i), Eigen::Index(k)) = covariance[i * d + k];
+    const double chi_before = before.sum_squares / std::pow(sigma_before / 255.0, 2);
+    const double chi_after = after.sum_squares / std::pow(c.sigma / 255.0, 2);
+    const double precision_ratio = chi_before > 0.0 && chi_after > 0.0 ? chi_after / chi_before : 1.0;
+    inverse_h *= 1.0 / precision_ratio / current_kappa;
+    SandwichFactor(likelihood, psi, inverse_h, &c);
+  }
+  likelihood.SetLevel(level);
+  return c;
+}
+
+}  // namespace vkr

@@ -1,0 +1,73 @@
+#pragma once
+// The noise model's nuisance parameters, estimated at the mode a run settles on (docs/
+// LIKELIHOOD.md, "Honest intervals"). Three things make the textbook likelihood wrong or
+// overconfident on photographs:
+//   - the photographs' exposure and white balance differ: the per-camera colour correction
+//     (Photometric.h) is refitted at the mode;
+//   - σ and δ: the configured noise may not be the images' (`"sigma": "auto"` estimates
+//     both: the noise per channel is σ² + δ²|∇I|² (Evaluation.h), and at the mode the
+//     deviations must be exactly as large as expected, χ = N, both over all texels and
+//     over the textured ones, weighted by the share of their noise the texture makes).
+//     This balances the χ² correction, which is calibrated only when χ ≈ N, and it keeps
+//     the textured surface (relief, fine detail the atlas cannot hold) from setting the
+//     noise of plain surface, where a misplaced edge would then look like noise;
+//   - κ: neighbouring atlas texels are not independent samples (bilinear and mip-filtered
+//     reads share pixels, and whatever the model does not explain — resampling, shading,
+//     blur, calibration — is smooth across the surface), so the curvature H of the
+//     log-likelihood overstates the evidence. The block sandwich (Huber–White) estimator
+//     measures the real variability of the score: J = Σ_b G_b G_bᵀ, G_b the gradient of
+//     the log-likelihood summed over a block of 8×8 texels, from per-texel deviations at
+//     ψ ± one sd of each parameter. The robust covariance is H⁻¹ J H⁻¹; the log-likelihood
+//     is divided by κ = tr(H⁻¹J)/d (a magnitude adjustment), so the posterior the chains
+//     sample has that covariance on average over directions. κ does not depend on σ (J
+//     scales as σ⁻⁴, H as σ⁻²): intervals follow the deviations actually found.
+
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "pipelines/likelihood/Likelihood.h"
+
+namespace vkr {
+
+// H⁻¹J has eigenvalues of at least about 1 when texels are positively correlated, as
+// neighbouring texels are; one below this means the curvature H measured at the mode was
+// too large (the likelihood is rough at one posterior sd: 8-bit views, rasterisation) and
+// κ too small. ToJson says so ("curvature_doubtful"), the sampler then measures H again over
+// wider steps (optimiser/Settle.cpp), and a diagnosis that still sees it doubts the intervals.
+constexpr double kMinSandwichEigenvalue = 1.0;
+
+struct NoiseCalibration {
+  double sigma = 8.0;            // noise sd on the 0–255 scale, used after calibration
+  double position_sd = 0.5;      // δ, pixels: the noise's texture term
+  bool sigma_estimated = false;  // σ and δ estimated (`sigma: auto`) rather than given
+  double kappa = 1.0;            // the log-likelihood is divided by it
+  double kappa_min = 1.0, kappa_max = 1.0;  // eigenvalue range of H⁻¹J (a report)
+  int blocks = 0;                // blocks of texels that carried a gradient
+  double chi2_per_dof = 0.0;     // S/σ²/N at the mode with the σ above
+  nlohmann::json photometric;    // the per-camera colour correction (Photometric.h), or null
+  // What the photographs show that the scene leaves out, masked from then on (ClutterMasks.h;
+  // not in ToJson: images travel as files, apps/ keeps them).
+  ClutterMasks clutter;
+
+  bool CurvatureDoubtful() const { return kappa_min < kMinSandwichEigenvalue; }
+};
+
+nlohmann::json ToJson(const NoiseCalibration& calibration);
+NoiseCalibration NoiseCalibrationFromJson(const nlohmann::json& json);  // throws std::invalid_argument
+
+// At ψ (level 0): the colour correction; σ and δ by fixed-point iteration of the two moment
+// conditions when `estimate_sigma` (left set in the likelihood), σ floored at
+// `sigma_floor`; the clutter masks (when `mask_clutter`), then σ and δ again without it;
+// then κ. The floor matters on noise-free images: there 8-bit quantisation
+// and the views' different resampling set the deviations (σ̂ ≈ 0.7 on `house`), the robust
+// loss then turns every edge into an outlier, and hiding surface pays — at σ = 0.7 a house
+// 8 % too large outscored the truth; from σ = 2 on the truth wins clearly. `covariance` (d × d row-major) is the
+// inverse curvature of log L / `current_kappa` at ψ with the σ the likelihood had; an empty
+// one, or a likelihood whose dumps carry no deviation image (image-space kind), leaves κ = 1.
+NoiseCalibration CalibrateNoise(Likelihood& likelihood, const std::vector<double>& psi,
+                                const std::vector<double>& covariance, double current_kappa,
+                                bool estimate_sigma, bool mask_clutter, double sigma_floor = 2.0);
+
+}  // namespace vkr

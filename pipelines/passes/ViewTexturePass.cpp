@@ -1,0 +1,105 @@
+#include "pipelines/passes/ViewTexturePass.h"
+
+#include <cstring>
+
+#include "pipelines/passes/PipelineBuilder.h"
+#include "pipelines/passes/Projection.h"
+#include "shaders/view_texture_frag.h"
+#include "shaders/view_texture_vert.h"
+
+namespace vkr {
+namespace {
+
+// Mirrors shaders_glsl/view_texture_push.glsl.
+struct ViewTexturePush {
+  float clip_from_world[16];
+  float centre_texel_area[4];
+  float params[4];  // fx·fy, depth tolerance, weights mode, near
+  uint32_t node_offset;
+  float level;
+};
+static_assert(sizeof(ViewTexturePush) <= 128, "push constants beyond the guaranteed 128 bytes");
+
+}  // namespace
+
+ViewTexturePass::ViewTexturePass(vk::Device& device, const GpuScene& scene, int bindings,
+                                 bool angle_weights, double depth_tolerance)
+    : device_(&device),
+      scene_(&scene),
+      angle_weights_(angle_weights),
+      depth_tolerance_(depth_tolerance),
+      trilinear_(vk::CreateTrilinearClampSampler(device)),
+      nearest_(vk::CreateNearestClampSampler(device)) {
+  const std::vector<VkDescriptorSetLayoutBinding> layout_bindings = {
+      {0, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_VERTEX_BIT, nullptr},
+      {1, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr},
+      {2, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr},
+      {3, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr},
+  };
+  set_layout_ = CreateDescriptorSetLayout(device, layout_bindings);
+  layout_ = CreatePipelineLayout(device, set_layout_, sizeof(ViewTexturePush),
+                                 VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT);
+  DescriptorSets sets = AllocateDescriptorSets(device, set_layout_, layout_bindings, uint32_t(bindings));
+  pool_ = std::move(sets.pool);
+  sets_ = std::move(sets.sets);
+  for (VkDescriptorSet set : sets_) WriteStorageBuffer(device, set, 0, scene.node_matrices());
+
+  const vk::ShaderModule vert = vk::CreateShaderModule(device, kViewTextureVert, sizeof(kViewTextureVert));
+  const vk::ShaderModule frag = vk::CreateShaderModule(device, kViewTextureFrag, sizeof(kViewTextureFrag));
+  GraphicsPipelineDesc desc;
+  desc.vertex = vert;
+  desc.fragment = frag;
+  desc.layout = layout_;
+  desc.colour_formats = {kFormat};
+  desc.vertex_attributes = 0b01111;  // position, normal, atlas_uv, node
+  desc.fragment_constants = {0};     // kCheckValidity: cameras where every pixel counts skip the read
+  pipeline_ = CreateGraphicsPipeline(device, desc);
+  desc.fragment_constants = {1};
+  validity_pipeline_ = CreateGraphicsPipeline(device, desc);
+  checks_validity_.assign(size_t(bindings), false);
+}
+
+void ViewTexturePass::BindImages(int index, VkImageView reference, VkImageView depth, VkImageView validity) {
+  WriteSampledImage(*device_, sets_.at(index), 1, reference, trilinear_,
+                    VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
+  WriteSampledImage(*device_, sets_.at(index), 2, depth, nearest_,
+                    VK_IMAGE_LAYOUT_DEPTH_READ_ONLY_OPTIMAL);
+  // Without validity the pipeline specialised not to read binding 3 draws this set; the
+  // binding still needs a view, and the reference is one at hand.
+  checks_validity_.at(size_t(index)) = validity != VK_NULL_HANDLE;
+  WriteSampledImage(*device_, sets_.at(index), 3, validity ? validity : reference, trilinear_,
+                    VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
+}
+
+void ViewTexturePass::record(VkCommandBuffer cmd, const ViewCamera& camera, int binding, int slot,
+                             VkImageView target, uint32_t atlas_size, bool clear) const {
+  ViewTexturePush push{};
+  const Eigen::Matrix4f clip = camera.clip_from_world.cast<float>();
+  std::memcpy(push.clip_from_world, clip.data(), sizeof(push.clip_from_world));
+  for (int k = 0; k < 3; ++k) push.centre_texel_area[k] = float(camera.centre[k]);
+  push.centre_texel_area[3] = float(camera.texel_area);
+  push.params[0] = float(camera.fx_fy);
+  push.params[1] = float(depth_tolerance_);
+  push.params[2] = angle_weights_ ? 1.0f : 0.0f;
+  push.params[3] = float(kDefaultNear);
+  push.node_offset = scene_->node_offset(slot);
+  push.level = float(camera.level);
+  // Every chart texel is written (weight 0 where the camera cannot see it) and the composite
+  // reads no other, so the layer need not be cleared: on lavapipe the clear was 10 % of
+  // the pass.
+  VkClearColorValue nothing{};
+  nothing.uint32[0] = nothing.uint32[1] = 0u;  // weight 0: no camera sees the texel
+  const std::optional<VkClearColorValue> zero = clear ? std::optional<VkClearColorValue>(nothing) : std::nullopt;
+  BeginRendering(cmd, atlas_size, atlas_size, target, zero, VK_NULL_HANDLE);
+  vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS,
+                    checks_validity_.at(size_t(binding)) ? validity_pipeline_ : pipeline_);
+  vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_, 0, 1, &sets_.at(binding), 0,
+                          nullptr);
+  vkCmdPushConstants(cmd, layout_, VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0,
+                     sizeof(ViewTexturePush), &push);
+  scene_->Bind(cmd);
+  vkCmdDrawIndexed(cmd, scene_->index_count(), 1, 0, 0, 0);
+  vkCmdEndRendering(cmd);
+}
+
+}  // namespace vkr
