@@ -132,6 +132,9 @@ struct LikelihoodSettings {
   bool clutter = true;
 };
 
+// The most hypotheses one submission may take (sampler.batch; SceneLoader.cpp says why).
+constexpr int kMaxSamplerBatch = 4096;
+
 struct SamplerSettings {
   int iterations = 4000;
   int chains = 4;

@@ -113,8 +113,11 @@ void ReadSampler(const Reader& r, const Json& j, SamplerSettings& s) {
     s.iterations = int(r.Integer(*it, "sampler.iterations", 1, INT_MAX));
   if (auto it = j.find("chains"); it != j.end())
     s.chains = int(r.Integer(*it, "sampler.chains", 1, INT_MAX));
+  // A frame proposes chains × temperatures = batch hypotheses in one submission, each with
+  // its own buffers: 4,096 already take minutes per frame on lavapipe and a second on a
+  // large GPU; more can never be a useful ladder, only a run that looks hung.
   if (auto it = j.find("batch"); it != j.end())
-    s.batch = int(r.Integer(*it, "sampler.batch", 1, INT_MAX));
+    s.batch = int(r.Integer(*it, "sampler.batch", 1, kMaxSamplerBatch));
   if (auto it = j.find("seed"); it != j.end())
     s.seed = std::uint64_t(r.Integer(*it, "sampler.seed", 0, LLONG_MAX));
 }

@@ -227,6 +227,7 @@ Device::Device(const DeviceCreateInfo& info) {
     VkPhysicalDeviceProperties2 p2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2, &p11};
     vkGetPhysicalDeviceProperties2(physical_, &p2);
     subgroup_size_ = p11.subgroupSize;
+    max_allocation_bytes_ = p11.maxMemoryAllocationSize;
     compute_subgroup_size_can_be_required_ = (p13.requiredSubgroupSizeStages & VK_SHADER_STAGE_COMPUTE_BIT) != 0;
     vkGetPhysicalDeviceMemoryProperties(physical_, &memory_);
     queue_family_ = *UniversalQueueFamily(physical_);
@@ -270,6 +271,14 @@ void Device::Release() {
   }
   if (instance_) vkDestroyInstance(instance_, nullptr);
   instance_ = VK_NULL_HANDLE;
+}
+
+uint64_t Device::device_local_heap_bytes() const {
+  uint64_t largest = 0;
+  for (uint32_t h = 0; h < memory_.memoryHeapCount; ++h)
+    if (memory_.memoryHeaps[h].flags & VK_MEMORY_HEAP_DEVICE_LOCAL_BIT)
+      largest = std::max<uint64_t>(largest, memory_.memoryHeaps[h].size);
+  return largest;
 }
 
 uint32_t Device::FindMemoryType(uint32_t type_bits, MemoryUse use) const {

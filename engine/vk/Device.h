@@ -65,6 +65,11 @@ class Device {
   double timestamp_period_ns() const { return properties_.limits.timestampPeriod; }
 
   uint32_t FindMemoryType(uint32_t type_bits, MemoryUse use) const;
+  // The largest device-local heap, and the most one allocation may take
+  // (maxMemoryAllocationSize): what a likelihood's memory plan is checked against before
+  // anything is allocated (pipelines/likelihood/MemoryPlan.h).
+  uint64_t device_local_heap_bytes() const;
+  uint64_t max_allocation_bytes() const { return max_allocation_bytes_; }
   // Bytes currently allocated through Buffer/GpuImage (for bench's memory report).
   uint64_t allocated_bytes() const { return allocated_bytes_; }
   void CountAllocation(int64_t delta) { allocated_bytes_ += delta; }
@@ -89,6 +94,7 @@ class Device {
   uint32_t queue_family_ = 0;
   uint32_t subgroup_size_ = 1;
   bool compute_subgroup_size_can_be_required_ = false;
+  uint64_t max_allocation_bytes_ = 0;
   VkPhysicalDeviceProperties properties_{};
   VkPhysicalDeviceMemoryProperties memory_{};
   uint64_t allocated_bytes_ = 0;

@@ -15,6 +15,7 @@
 #include "pipelines/passes/HalfFloat.h"
 #include "pipelines/passes/ImageComparePass.h"
 #include "pipelines/passes/PairWarpPass.h"
+#include "pipelines/likelihood/MemoryPlan.h"
 #include "pipelines/likelihood/ReferenceImages.h"
 #include "pipelines/passes/Projection.h"
 
@@ -220,6 +221,7 @@ ImageLikelihood::ImageLikelihood(vk::Device& device, const Scene& scene, const I
   if (!options.IsValid(&why)) throw std::invalid_argument("ImageLikelihoodOptions: " + why);
   if (scene.cameras.size() < 2)
     throw InputError(scene.file.string(), "cameras", "the image-space likelihood needs at least 2 cameras");
+  RequireImageLikelihoodFits(scene, options, device);  // before anything is allocated
   impl_ = std::make_unique<Impl>(device, scene, options);
   Impl& m = *impl_;
   const int levels = options.levels, n = int(scene.cameras.size());

@@ -14,6 +14,7 @@
 #include "pipelines/passes/ViewTexel.h"
 #include "pipelines/passes/InteriorPass.h"
 #include "pipelines/passes/Projection.h"
+#include "pipelines/likelihood/MemoryPlan.h"
 #include "pipelines/likelihood/ReferenceImages.h"
 #include "pipelines/passes/ViewTexturePass.h"
 
@@ -217,6 +218,7 @@ SurfaceLikelihood::SurfaceLikelihood(vk::Device& device, const Scene& scene,
   if (!options.IsValid(&why)) throw std::invalid_argument("SurfaceLikelihoodOptions: " + why);
   if (scene.cameras.size() < 2)
     throw InputError(scene.file.string(), "cameras", "the surface likelihood needs at least 2 cameras");
+  RequireSurfaceLikelihoodFits(scene, options, device);  // before anything is allocated
   impl_ = std::make_unique<Impl>(device, scene, options);
   Impl& m = *impl_;
   const int levels = options.levels, n = int(scene.cameras.size());

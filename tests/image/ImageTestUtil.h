@@ -23,7 +23,9 @@ void ExpectInputError(Action action, const std::filesystem::path& file, const st
     const std::string what = e.what();
     EXPECT_NE(what.find(file.string()), std::string::npos) << what;
     EXPECT_EQ(what.find('\n'), std::string::npos) << what;
-    if (!needle.empty()) EXPECT_NE(what.find(needle), std::string::npos) << what;
+    if (!needle.empty()) {
+      EXPECT_NE(what.find(needle), std::string::npos) << what;
+    }
   } catch (const std::exception& e) {
     ADD_FAILURE() << "expected InputError, got: " << e.what();
   }
