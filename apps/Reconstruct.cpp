@@ -4,6 +4,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cmath>
@@ -12,6 +13,7 @@
 #include <iostream>
 #include <nlohmann/json.hpp>
 #include <random>
+#include <sstream>
 
 #include "engine/common/InputError.h"
 #include "engine/geometry/SceneGeometry.h"
@@ -29,6 +31,40 @@ namespace vkr::app {
 namespace {
 
 std::atomic<bool> g_stop{false};
+
+// Writes through a temporary file and a rename: a run killed mid-write leaves the previous
+// checkpoint intact.
+void WriteAtomically(const fs::path& file, const std::string& text) {
+  const fs::path tmp = file.string() + ".tmp";
+  {
+    std::ofstream out(tmp, std::ios::binary);
+    out << text;
+    if (!out) throw std::runtime_error("cannot write " + tmp.string());
+  }
+  fs::rename(tmp, file);
+}
+
+void WritePngAtomically(const fs::path& file, const Image& image) {
+  const fs::path tmp = file.parent_path() / (file.stem().string() + ".tmp.png");
+  WritePng(tmp, image);
+  fs::rename(tmp, file);
+}
+
+// Where a checkpoint's clutter masks live, relative to the output folder. Each settling
+// round may find other masks; a file named by its content is never overwritten with other
+// masks, so a checkpoint always reloads exactly the masks it was written with, wherever a
+// run is killed (a fixed name was overwritten by the next round before the checkpoint that
+// named it was replaced, and a resumed run diverged).
+constexpr const char* kCheckpointMasks = "checkpoint-clutter";
+
+std::string MaskFileName(const std::string& camera, const Image& mask) {
+  uint64_t hash = 1469598103934665603ull;  // FNV-1a over the pixels' bytes
+  const auto* bytes = reinterpret_cast<const unsigned char*>(mask.rgba.data());
+  for (size_t i = 0; i < mask.rgba.size() * sizeof(float); ++i) hash = (hash ^ bytes[i]) * 1099511628211ull;
+  char hex[17];
+  std::snprintf(hex, sizeof hex, "%016llx", static_cast<unsigned long long>(hash));
+  return std::string(kCheckpointMasks) + "/" + camera + "-" + hex + ".png";
+}
 
 // The sampler's view of a likelihood: a batch of Ψ in, log likelihood + occlusion prior out,
 // divided by the sandwich factor κ once the run has settled at the mode and calibrated the
@@ -57,16 +93,18 @@ class LikelihoodTarget : public opt::Target {
     nlohmann::json json = ToJson(calibration_);
     const ClutterMasks& clutter = calibration_.clutter;
     if (!clutter.masks.empty()) {
-      fs::create_directories(output_dir_ / "clutter");
       nlohmann::json files = nlohmann::json::array();
-      for (size_t i = 0; i < clutter.masks.size(); ++i) {
-        const std::string file = "clutter/" + scene_.cameras[i].name + ".png";
-        WritePng(output_dir_ / file, clutter.masks[i]);
-        files.push_back(file);
-      }
+      for (size_t i = 0; i < clutter.masks.size(); ++i) files.push_back(KeepMask(scene_.cameras[i].name, clutter.masks[i]));
       json["clutter"] = {{"files", files}, {"share", clutter.share}};
     }
     return json;
+  }
+  // Keeps `mask` for checkpoints; its file name relative to the output folder.
+  std::string KeepMask(const std::string& camera, const Image& mask) const {
+    const std::string file = MaskFileName(camera, mask);
+    fs::create_directories(output_dir_ / kCheckpointMasks);
+    if (!fs::exists(output_dir_ / file)) WritePngAtomically(output_dir_ / file, mask);
+    return file;
   }
   void RestoreCalibration(const nlohmann::json& calibration) override {
     calibration_ = NoiseCalibrationFromJson(calibration);
@@ -106,17 +144,6 @@ std::vector<opt::ParameterSpec> ParameterSpecs(const Scene& scene) {
   return specs;
 }
 
-// Writes through a temporary file and a rename: a run killed mid-write leaves the previous
-// checkpoint intact.
-void WriteAtomically(const fs::path& file, const std::string& text) {
-  const fs::path tmp = file.string() + ".tmp";
-  {
-    std::ofstream out(tmp, std::ios::binary);
-    out << text;
-    if (!out) throw std::runtime_error("cannot write " + tmp.string());
-  }
-  fs::rename(tmp, file);
-}
 
 std::string Duration(double seconds) {
   if (!std::isfinite(seconds) || seconds < 0) return "?";
@@ -209,8 +236,10 @@ ReconstructResult Reconstruct(const ReconstructOptions& options, vk::Device& dev
   const Scene scene = LoadScene(options.scene_file, options.overrides);
   if (scene.parameters.empty())
     throw InputError(scene.file.string(), "parameters", "nothing to reconstruct: the scene declares no parameter");
-  fs::create_directories(options.output_dir);
   const fs::path checkpoint_file = options.output_dir / "checkpoint.json";
+  if (options.resume && !fs::exists(checkpoint_file) && !fs::is_directory(options.output_dir))
+    throw InputError(checkpoint_file.string(), "", "no checkpoint to resume from");
+  fs::create_directories(options.output_dir);
 
   LikelihoodSetup setup;
   setup.max_batch = scene.sampler.batch;
@@ -239,9 +268,15 @@ ReconstructResult Reconstruct(const ReconstructOptions& options, vk::Device& dev
   if (options.temperatures > 0) sampler_options.temperatures = options.temperatures;
 
   std::unique_ptr<opt::Sampler> sampler;
-  if (options.resume) {
+  // A run stopped before it wrote its first checkpoint (while loading photographs) left only
+  // its folder: resuming it is starting it, which gives the same result.
+  const bool resume = options.resume && fs::exists(checkpoint_file);
+  if (options.resume && !resume && !options.quiet)
+    std::cerr << "vkrecon run: " << options.output_dir.string()
+              << " holds no checkpoint (the run stopped before its first): starting it from the beginning\n";
+  if (resume) {
     std::ifstream in(checkpoint_file);
-    if (!in) throw InputError(checkpoint_file.string(), "", "no checkpoint to resume from");
+    if (!in) throw InputError(checkpoint_file.string(), "", "cannot read the checkpoint");
     nlohmann::json state;
     try {
       in >> state;
@@ -260,6 +295,9 @@ ReconstructResult Reconstruct(const ReconstructOptions& options, vk::Device& dev
     PreflightVisibility(scene, *likelihood);
     sampler_options.initial_temperature = InitialTemperature(scene, *likelihood);
     sampler = std::make_unique<opt::Sampler>(sampler_options, ParameterSpecs(scene), target);
+    // From here on a resume continues this run rather than starting it again (the initial
+    // temperature above is drawn from the photographs: not worth redoing).
+    WriteAtomically(checkpoint_file, sampler->Checkpoint().dump());
   }
 
   ProgressBar bar(options.quiet);
@@ -305,12 +343,27 @@ ReconstructResult Reconstruct(const ReconstructOptions& options, vk::Device& dev
     outputs.SetPhotometric(PhotometricFromJson(summary.calibration["photometric"], int(scene.cameras.size())));
   std::vector<Image> clutter;
   std::vector<double> clutter_share;
+  nlohmann::json clutter_files = nlohmann::json::array();  // the outputs' names, clutter/<camera>.png
   if (summary.calibration.is_object() && summary.calibration.contains("clutter")) {
-    for (const auto& file : summary.calibration["clutter"]["files"])
+    fs::create_directories(options.output_dir / "clutter");
+    for (const auto& file : summary.calibration["clutter"]["files"]) {
       clutter.push_back(LoadImage(options.output_dir / file.get<std::string>()));
+      const std::string output = "clutter/" + scene.cameras[clutter.size() - 1].name + ".png";
+      WritePngAtomically(options.output_dir / output, clutter.back());
+      clutter_files.push_back(output);
+    }
     clutter_share = summary.calibration["clutter"]["share"].get<std::vector<double>>();
     outputs.SetClutterMasks(clutter);
   }
+  // The checkpoint's masks other than the final ones will never be read again.
+  if (fs::is_directory(options.output_dir / kCheckpointMasks))
+    for (const auto& entry : fs::directory_iterator(options.output_dir / kCheckpointMasks)) {
+      const std::string name = std::string(kCheckpointMasks) + "/" + entry.path().filename().string();
+      const bool kept = summary.calibration.is_object() && summary.calibration.contains("clutter") &&
+                        std::count(summary.calibration["clutter"]["files"].begin(),
+                                   summary.calibration["clutter"]["files"].end(), name) > 0;
+      if (!kept) fs::remove(entry.path());
+    }
   Evaluation at_map;
   const SurfaceDump dump = outputs.EvaluateAndDump(summary.map, &at_map);
   const Image composite = DilateAtlas(dump.composite);
@@ -333,6 +386,7 @@ ReconstructResult Reconstruct(const ReconstructOptions& options, vk::Device& dev
   result.failed = diagnosis.verdict == Diagnosis::Verdict::Failed;
 
   nlohmann::json map = opt::MapJson(summary);
+  if (!clutter_files.empty()) map["calibration"]["clutter"]["files"] = clutter_files;
   map["settings"] = {{"scene", fs::absolute(options.scene_file).string()},
                      {"overrides", nlohmann::json::array()},
                      {"device", device.name()},
@@ -346,14 +400,17 @@ ReconstructResult Reconstruct(const ReconstructOptions& options, vk::Device& dev
                      {"sampler", opt::ToJson(sampler_options)}};
   for (const SceneOverride& o : options.overrides) map["settings"]["overrides"].push_back(o.path + "=" + o.value);
   map["diagnosis"] = diagnosis.json;
-  result.map_json = options.output_dir / "map.json";
-  WriteAtomically(result.map_json, map.dump(2) + "\n");
   scene.WriteValues(options.output_dir / "at_map.json", summary.map);  // for render --at
   {
-    std::ofstream csv(options.output_dir / "chain.csv");
+    std::ostringstream csv;
     csv.imbue(std::locale::classic());
     opt::WriteChainCsv(csv, summary.chain, sampler->parameters());
+    WriteAtomically(options.output_dir / "chain.csv", csv.str());
   }
+  // Last, so that a map.json is the mark of a finished run: a run killed while writing its
+  // outputs shows none, and its checkpoint writes them all again on --resume.
+  result.map_json = options.output_dir / "map.json";
+  WriteAtomically(result.map_json, map.dump(2) + "\n");
   if (!options.quiet) std::cerr << summary.BriefReport() << "\n";
   return result;
 }
