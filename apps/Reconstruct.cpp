@@ -237,8 +237,6 @@ ReconstructResult Reconstruct(const ReconstructOptions& options, vk::Device& dev
   if (scene.parameters.empty())
     throw InputError(scene.file.string(), "parameters", "nothing to reconstruct: the scene declares no parameter");
   const fs::path checkpoint_file = options.output_dir / "checkpoint.json";
-  if (options.resume && !fs::exists(checkpoint_file) && !fs::is_directory(options.output_dir))
-    throw InputError(checkpoint_file.string(), "", "no checkpoint to resume from");
   fs::create_directories(options.output_dir);
 
   LikelihoodSetup setup;
@@ -268,12 +266,14 @@ ReconstructResult Reconstruct(const ReconstructOptions& options, vk::Device& dev
   if (options.temperatures > 0) sampler_options.temperatures = options.temperatures;
 
   std::unique_ptr<opt::Sampler> sampler;
-  // A run stopped before it wrote its first checkpoint (while loading photographs) left only
-  // its folder: resuming it is starting it, which gives the same result.
+  // A run stopped before it wrote its first checkpoint (while starting, loading photographs)
+  // left nothing to continue: resuming it is starting it, which gives the same result. Said
+  // even with --quiet, in case OUT was mistyped.
   const bool resume = options.resume && fs::exists(checkpoint_file);
-  if (options.resume && !resume && !options.quiet)
-    std::cerr << "vkrecon run: " << options.output_dir.string()
-              << " holds no checkpoint (the run stopped before its first): starting it from the beginning\n";
+  if (options.resume && !resume)
+    std::cerr << "vkrecon run: warning: " << checkpoint_file.string()
+              << " does not exist (the run stopped before its first checkpoint, or OUT is not the run's "
+                 "folder): starting the run from the beginning\n";
   if (resume) {
     std::ifstream in(checkpoint_file);
     if (!in) throw InputError(checkpoint_file.string(), "", "cannot read the checkpoint");

@@ -24,7 +24,7 @@ int RunRun(int argc, char** argv) {
   std::string out;
   AddSceneArgs(app, scene);
   app.add_option("-o,--output", out, "output folder")->required();
-  app.add_flag("--resume", options.resume, "continue the run saved in OUT/checkpoint.json");
+  app.add_flag("--resume", options.resume, "continue the run saved in OUT/checkpoint.json (none there: start the run, with a warning)");
   app.add_flag("-q,--quiet", options.quiet, "no progress bar");
   app.add_option("--checkpoint-seconds", options.checkpoint_seconds, "seconds between checkpoints (default 5)");
   app.add_option("--temperatures", options.temperatures,

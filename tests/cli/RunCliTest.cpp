@@ -190,12 +190,18 @@ TEST(RunCli, BadSamplerOptionsAreBadInputNamingTheField) {
   }
 }
 
-TEST(RunCli, ResumeWithoutACheckpointIsBadInput) {
+// Nothing to resume (a run killed before its first checkpoint, or a mistyped folder): the
+// run starts from the beginning, says so, and ends as a run started without --resume.
+TEST(RunCli, ResumeWithNothingToResumeStartsTheRunAndSaysSo) {
   test::TempDir dir;
   ASSERT_TRUE(SynthBoxImages(dir, ""));
-  const auto r = RunCommand(SmallRun(dir) + " --resume -o " + Q(dir / "none"));
-  EXPECT_EQ(r.exit_status, 2) << r.err;
-  EXPECT_NE(r.err.find("checkpoint"), std::string::npos) << r.err;
+  const auto straight = RunCommand(SmallRun(dir, 20) + " -o " + Q(dir / "straight"));
+  ASSERT_EQ(straight.exit_status, 0) << straight.err;
+  const auto r = RunCommand(SmallRun(dir, 20) + " --resume -o " + Q(dir / "none"));
+  EXPECT_EQ(r.exit_status, 0) << r.err;
+  EXPECT_NE(r.err.find("checkpoint.json does not exist"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("starting the run from the beginning"), std::string::npos) << r.err;
+  EXPECT_EQ(ReadJson(dir / "none/map.json")["parameters"], ReadJson(dir / "straight/map.json")["parameters"]);
 }
 
 }  // namespace
