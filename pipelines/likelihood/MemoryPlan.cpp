@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cstdio>
 #include <fstream>
-#include <sstream>
 
 #include "engine/common/InputError.h"
 #include "engine/scene/Scene.h"
