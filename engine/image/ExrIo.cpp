@@ -7,7 +7,11 @@
 #include <OpenEXR/ImfInputFile.h>
 #include <OpenEXR/ImfOutputFile.h>
 
+#include <algorithm>
+#include <cstdint>
 #include <cstring>
+#include <fstream>
+#include <iterator>
 #include <exception>
 #include <stdexcept>
 #include <string>
@@ -32,6 +36,40 @@ void DataWindowSize(const std::filesystem::path& file, const Imf::Header& header
   *height = int(h);
 }
 
+// OpenEXR 3.1 allocates every header attribute at the size the file claims before reading
+// it, so a 20 KB file claiming a 1.2 GB attribute costs 1.2 GB (found by fuzzing). Walk the
+// header (every header of a multi-part file) first and refuse sizes the file cannot hold.
+void CheckAttributeSizes(const std::filesystem::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  const std::vector<char> bytes{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+  auto truncated = [&] { Fail(file, "OpenEXR header is truncated"); };
+  size_t pos = 8;  // magic number and version
+  if (bytes.size() < pos) truncated();
+  const bool multipart = (uint8_t(bytes[5]) & 0x10) != 0;  // version flag 0x1000
+  auto text = [&] {
+    const auto end = std::find(bytes.begin() + long(pos), bytes.end(), '\0');
+    if (end == bytes.end()) truncated();
+    std::string s(bytes.begin() + long(pos), end);
+    pos = size_t(end - bytes.begin()) + 1;
+    return s;
+  };
+  do {
+    for (std::string name = text(); !name.empty(); name = text()) {
+      text();  // type name
+      if (bytes.size() - pos < 4) truncated();
+      uint32_t word = 0;  // little-endian in the file
+      for (int b = 3; b >= 0; --b) word = (word << 8) | uint8_t(bytes[pos + size_t(b)]);
+      const int32_t size = int32_t(word);
+      pos += 4;
+      if (size < 0 || size_t(size) > bytes.size() - pos)
+        Fail(file, "OpenEXR header attribute '" + name + "' claims " + std::to_string(size) +
+                       " bytes, more than the file holds");
+      pos += size_t(size);
+    }
+    // A multi-part file's headers end with an empty one.
+  } while (multipart && pos < bytes.size() && bytes[pos] != '\0');
+}
+
 std::string ChannelNames(const Imf::ChannelList& channels) {
   std::string names;
   for (auto it = channels.begin(); it != channels.end(); ++it)
@@ -40,6 +78,7 @@ std::string ChannelNames(const Imf::ChannelList& channels) {
 }
 
 Image ReadExrPixels(const std::filesystem::path& file) {
+  CheckAttributeSizes(file);
   Imf::InputFile in(file.c_str());
   const Imf::Header& header = in.header();
   int width = 0, height = 0;
@@ -113,6 +152,7 @@ Image LoadExr(const std::filesystem::path& file) {
 
 void ReadExrSize(const std::filesystem::path& file, int* width, int* height) {
   try {
+    CheckAttributeSizes(file);
     Imf::InputFile in(file.c_str());  // parses the header only; pixels are read on demand
     DataWindowSize(file, in.header(), width, height);
   } catch (const InputError&) {
