@@ -111,7 +111,7 @@ class Reader {
                      tinygltf::GetNumComponentsInType(uint32_t(acc.type));
     if (stride <= 0 || elem <= 0) Fail(field, "invalid component type, type or byteStride");
     // Compared by division and subtraction only: the counts and offsets come from the file,
-    // and a product or sum of them can wrap around past the check (found by fuzzing).
+    // and a product or sum of them can wrap around past the check (tests/fuzz/regressions/gltf).
     const size_t buffer_size = m_.buffers[view.buffer].data.size();
     const size_t length = view.byteLength, offset = acc.byteOffset, element = size_t(elem);
     const bool inside = acc.count == 0 || (offset <= length && element <= length - offset &&
@@ -206,8 +206,8 @@ Mesh LoadGltfMesh(const std::filesystem::path& file) {
   // Mesh instances of the node tree: (mesh index, file_from_mesh).
   // glTF node hierarchies are disjoint trees, so each node is visited once: a node reached
   // twice (a shared child, a cycle) is refused, which also bounds the walk by the node
-  // count. A file of 40 nodes each listing the next twice once took 2^40 steps (found by
-  // fuzzing). The walk keeps its own stack, so a deep chain cannot overflow the thread's.
+  // count. A file of 40 nodes each listing the next twice once took 2^40 steps. The walk
+  // keeps its own stack, so a deep chain cannot overflow the thread's.
   std::vector<std::pair<int, Matrix4d>> instances;
   std::vector<bool> visited(model.nodes.size(), false);
   auto visit = [&](int root) {

@@ -108,8 +108,8 @@ Image DecodePnm(const std::filesystem::path& file, std::span<const uint8_t> byte
   const PnmHeader h = ParseHeader(file, bytes);
   const size_t samples = size_t(h.width) * h.height * h.channels;
   // The raster must be there before the image is allocated: a 30-byte file claiming
-  // 16384x16384 pixels would otherwise cost 4 GiB (found by fuzzing). An ASCII sample takes
-  // at least a digit and a separator.
+  // 16384x16384 pixels would otherwise cost 4 GiB (tests/fuzz/regressions/image). An ASCII
+  // sample takes at least a digit and a separator.
   const size_t bytes_per_sample = h.binary ? (h.maxval < 256 ? 1 : 2) : 2;
   const size_t available = bytes.size() - h.raster + (h.binary ? 0 : 1);  // + ASCII's last separator
   if (available / bytes_per_sample < samples)
