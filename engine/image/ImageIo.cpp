@@ -72,11 +72,52 @@ std::vector<uint8_t> ReadBytes(const std::filesystem::path& file, FILE* f,
                  (reason ? reason : "unknown error") + ")");
 }
 
+// stb_image 2.27 (Debian 12) builds a JPEG Huffman table before checking that the DHT
+// segment declares at most 256 codes, and writes past the table's arrays when it declares
+// more (fuzz_image found it; stb 2.28 checks). The tables are checked here first, walking
+// the file as stb does: a marker is 0xFF and a byte other than 0x00 (stuffed), 0xFF (fill)
+// or a restart; anything else, such as entropy-coded data, is passed over byte by byte;
+// a segment is as long as its length field says (stb fails where it is not, so walking on
+// checks more than stb reads, never less), except that DHT tables are read while the
+// length has bytes left.
+void CheckJpegHuffmanTables(const std::filesystem::path& file, const std::vector<uint8_t>& bytes) {
+  size_t pos = 2;  // after SOI
+  while (pos + 1 < bytes.size()) {
+    const uint8_t marker = bytes[pos + 1];
+    if (bytes[pos] != 0xFF || marker == 0xFF) {
+      ++pos;
+      continue;
+    }
+    if (marker == 0x00 || (marker >= 0xD0 && marker <= 0xD7)) {
+      pos += 2;
+      continue;
+    }
+    if (marker == 0xD9 || pos + 3 >= bytes.size()) return;  // EOI, or the file ends
+    const size_t length = size_t(bytes[pos + 2]) << 8 | bytes[pos + 3];
+    if (marker != 0xC4) {
+      pos += 2 + length;
+      continue;
+    }
+    long left = long(length) - 2;
+    pos += 4;
+    while (left > 0 && pos + 17 <= bytes.size()) {
+      size_t codes = 0;
+      for (size_t i = 1; i <= 16; ++i) codes += bytes[pos + i];
+      if (codes > 256)
+        Fail(file, "corrupt JPEG: a Huffman table declares " + std::to_string(codes) +
+                       " codes (at most 256)");
+      pos += 17 + codes;
+      left -= long(17 + codes);
+    }
+  }
+}
+
 // PNG, JPEG and the other formats stb_image knows. Four channels are requested so stb
 // expands grey to RGB and adds alpha 1 (opaque) where the file has none.
 Image DecodeWithStb(const std::filesystem::path& file, const std::vector<uint8_t>& bytes) {
   if (bytes.size() > size_t(INT_MAX)) Fail(file, "file is too large for stb_image (> 2 GiB)");
   const int len = int(bytes.size());
+  if (bytes.size() >= 2 && bytes[0] == 0xFF && bytes[1] == 0xD8) CheckJpegHuffmanTables(file, bytes);
   int w = 0, h = 0, channels_in_file = 0;
   Image image;
   // 16-bit PNGs keep their precision; stbi_load would round them to 8 bits.
