@@ -68,14 +68,21 @@ std::vector<std::string> SplitAtNul(std::string_view text) {
   }
 }
 
+thread_local std::string g_last_refusal;
+
+Outcome Refuse(const std::exception& e) {
+  g_last_refusal = e.what();
+  return Outcome::Refused;
+}
+
 // Runs `read`; the documented bad-input exception means Refused, everything else escapes.
 template <typename Read>
 Outcome Guard(Read read) {
   try {
     read();
     return Outcome::Accepted;
-  } catch (const InputError&) {
-    return Outcome::Refused;
+  } catch (const InputError& e) {
+    return Refuse(e);
   }
 }
 
@@ -172,8 +179,8 @@ Outcome Checkpoint(Bytes input) {
   nlohmann::json state;
   try {
     state = nlohmann::json::parse(Text(input));
-  } catch (const nlohmann::json::exception&) {
-    return Outcome::Refused;
+  } catch (const nlohmann::json::exception& e) {
+    return Refuse(e);
   }
   // A likelihood with the levels the checkpoint asks for (a real run refuses a mismatch,
   // which would stop the fuzzer at the first check), a flat log-likelihood and the batch of
@@ -187,10 +194,12 @@ Outcome Checkpoint(Bytes input) {
     if (!sampler.done()) sampler.Step();
     sampler.Checkpoint();
     return Outcome::Accepted;
-  } catch (const std::invalid_argument&) {
-    return Outcome::Refused;
+  } catch (const std::invalid_argument& e) {
+    return Refuse(e);
   }
 }
+
+const std::string& LastRefusal() { return g_last_refusal; }
 
 std::span<const Entry> Entries() {
   static constexpr Entry kEntries[] = {

@@ -12,6 +12,7 @@
 
 #include <cstdint>
 #include <span>
+#include <string>
 #include <string_view>
 
 namespace vkr::fuzz {
@@ -38,6 +39,9 @@ Outcome Gltf(Bytes input);
 // A sampler checkpoint, read as `vkrecon run --resume` reads OUT/checkpoint.json, then
 // continued for one frame.
 Outcome Checkpoint(Bytes input);
+
+// The message of the last Refused outcome of this thread, for test failures.
+const std::string& LastRefusal();
 
 // The entries by the names used for folders (regressions/<name>, seeds/<name>) and fuzz
 // binaries (fuzz_<name>).

@@ -11,12 +11,19 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <ostream>
 #include <string>
 #include <vector>
 
 #include "tests/fuzz/FuzzEntries.h"
 
 namespace vkr::fuzz {
+
+// For gtest's messages (found by argument-dependent lookup, so not in the unnamed namespace).
+void PrintTo(Outcome outcome, std::ostream* out) {
+  *out << (outcome == Outcome::Accepted ? "Accepted" : "Refused");
+}
+
 namespace {
 
 namespace fs = std::filesystem;
@@ -27,6 +34,9 @@ struct StoredInput {
   const Entry* entry;
   fs::path file;
 };
+
+// For gtest's messages: the file, not the bytes of the struct.
+void PrintTo(const StoredInput& input, std::ostream* out) { *out << input.file.string(); }
 
 // Every file of `folder`/<entry name>/, sorted, for each entry.
 std::vector<StoredInput> Stored(const char* folder) {
@@ -69,7 +79,7 @@ class Seed : public ::testing::TestWithParam<StoredInput> {};
 
 TEST_P(Seed, IsAccepted) {
   const std::vector<uint8_t> bytes = ReadBytes(GetParam().file);
-  EXPECT_EQ(GetParam().entry->run(bytes), Outcome::Accepted) << GetParam().file;
+  EXPECT_EQ(GetParam().entry->run(bytes), Outcome::Accepted) << LastRefusal();
 }
 
 INSTANTIATE_TEST_SUITE_P(Fuzz, Seed, ::testing::ValuesIn(Stored("seeds")), TestName);
