@@ -48,6 +48,17 @@ std::vector<Step> SplitPath(const std::string& path, const std::string& display)
   return steps;
 }
 
+// nlohmann's serialiser checks UTF-8; its parser checks a file's strings, but a --set value
+// taken as a plain string is never parsed.
+bool IsUtf8(const std::string& text) {
+  try {
+    (void)Json(text).dump();
+    return true;
+  } catch (const Json::type_error&) {
+    return false;
+  }
+}
+
 }  // namespace
 
 }  // namespace scene_detail
@@ -76,6 +87,10 @@ std::set<std::string> ApplyOverrides(Json& root, const std::vector<SceneOverride
                                      const std::string& display) {
   std::set<std::string> paths;
   for (const SceneOverride& o : overrides) {
+    // Invalid UTF-8 in the scene's JSON would make every later dump of it throw a JSON
+    // error instead of an InputError (fuzz_scene_json found it in a message).
+    if (!IsUtf8(o.path) || !IsUtf8(o.value))
+      throw InputError(display, "--set", "'" + o.path + "' or its value is not valid UTF-8");
     const std::vector<Step> steps = SplitPath(o.path, display);
     Json* node = &root;
     std::string at;  // canonical path walked so far, for messages
