@@ -127,6 +127,26 @@ void RequirePngOrJpeg(const std::filesystem::path& file, std::span<const uint8_t
   if (!IsPng(head) && !IsJpeg(head)) Fail(file, "not a PNG/JPEG/PGM/PPM/EXR image");
 }
 
+// stb_image 2.27 grows its IDAT buffer to the length a chunk claims before reading the
+// chunk: 107 bytes claiming a 1.2 GB chunk made it allocate 1.2 GB (fuzz_image found it).
+// stb walks a PNG chunk by chunk, by their lengths, as this does; a chunk longer than what
+// is left of the file means the file is cut short (or forged).
+void CheckPngChunkLengths(const std::filesystem::path& file, const std::vector<uint8_t>& bytes) {
+  for (size_t pos = 8; pos + 8 <= bytes.size();) {
+    const uint32_t length = uint32_t(bytes[pos]) << 24 | uint32_t(bytes[pos + 1]) << 16 |
+                            uint32_t(bytes[pos + 2]) << 8 | bytes[pos + 3];
+    std::string type(bytes.begin() + long(pos) + 4, bytes.begin() + long(pos) + 8);
+    for (char& c : type)
+      if (!std::isalnum(static_cast<unsigned char>(c))) c = '?';
+    const size_t left = bytes.size() - pos - 8;
+    if (length > left)
+      Fail(file, "PNG is truncated: chunk " + type + " claims " + std::to_string(length) +
+                     " bytes, " + std::to_string(left) + " remain");
+    if (type == "IEND") return;
+    pos += 12 + size_t(length);
+  }
+}
+
 // Every 8x8 block of a JPEG's full-resolution component costs at least one bit (its DC
 // code, in baseline and progressive files alike), so a JPEG with fewer than w*h/512 bytes
 // is truncated or forged. stb would decode it anyway, inventing the missing data: 810 bytes
@@ -148,6 +168,8 @@ Image DecodeWithStb(const std::filesystem::path& file, const std::vector<uint8_t
   if (IsJpeg(bytes)) {
     CheckJpegHuffmanTables(file, bytes);
     CheckJpegDataForSize(file, bytes);
+  } else {
+    CheckPngChunkLengths(file, bytes);
   }
   int w = 0, h = 0, channels_in_file = 0;
   Image image;
