@@ -32,7 +32,6 @@ struct SceneArgs {
   int device = -1;
 };
 void AddSceneArgs(CLI::App& app, SceneArgs& args);
-std::vector<SceneOverride> ParseOverrides(const std::vector<std::string>& sets);
 
 // Opens the Vulkan device (--device / VKRECON_DEVICE). Commands name it in their summary
 // line rather than up front, so a bad-input error stays the only line on stderr.

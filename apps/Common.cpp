@@ -29,26 +29,6 @@ void AddSceneArgs(CLI::App& app, SceneArgs& args) {
                  "best GPU, else lavapipe)");
 }
 
-std::vector<SceneOverride> ParseOverrides(const std::vector<std::string>& sets) {
-  std::vector<SceneOverride> out;
-  for (const std::string& s : sets) {
-    const size_t eq = s.find('=');
-    if (eq == std::string::npos || eq == 0)
-      throw InputError("", "--set", "expected PATH=VALUE, got '" + s + "'");
-    SceneOverride o{s.substr(0, eq), s.substr(eq + 1)};
-    // A path typed on the command line is relative to where the user is, not to the scene
-    // file: make the scene's path fields absolute before the loader resolves them.
-    const std::string& key = o.path;
-    const bool path_field = key == "images" || key == "cameras" || key == "masks" || key == "cameras.colmap" ||
-                            key.ends_with(".albedo") || key.ends_with(".mesh");
-    if (path_field && !o.value.empty() && o.value.front() != '{' && o.value.front() != '[' &&
-        o.value.front() != '"' && std::filesystem::path(o.value).is_relative())
-      o.value = std::filesystem::absolute(o.value).string();
-    out.push_back(o);
-  }
-  return out;
-}
-
 std::unique_ptr<vk::Device> OpenDevice(int index) {
   vk::DeviceCreateInfo info;
   info.device_index = index;

@@ -2,6 +2,8 @@
 # Installs exactly the Debian packages vkrecon needs, from the compiler up.
 # Idempotent: runs `apt-get update` and `apt-get install` only when something is missing.
 # Works as root or through sudo; a bare Debian 12 with nothing but apt is enough.
+# Usage: scripts/bootstrap.sh [GROUP…]. Optional groups add packages a few scripts need:
+#   fuzz  clang, libFuzzer and llvm-symbolizer for scripts/fuzz.sh (docs/FUZZING.md)
 set -euo pipefail
 
 PACKAGES=(
@@ -15,6 +17,15 @@ PACKAGES=(
   # python3 draws the plots of the sweep and benchmark scripts (optional at run time)
   python3
 )
+
+for group in "$@"; do
+  case "$group" in
+    # clang-14 is Debian 12's clang; libclang-rt-14-dev holds libFuzzer and the sanitizer
+    # runtimes, llvm-14 the symbolizer that turns their reports into file:line.
+    fuzz) PACKAGES+=(clang-14 libclang-rt-14-dev llvm-14) ;;
+    *) echo "bootstrap: unknown package group '$group' (known: fuzz)" >&2; exit 2 ;;
+  esac
+done
 
 missing=()
 for p in "${PACKAGES[@]}"; do

@@ -22,7 +22,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
-#include <functional>
 
 #include "engine/common/InputError.h"
 #include "engine/geometry/Mesh.h"
@@ -41,6 +40,9 @@ bool SkipImage(tinygltf::Image*, const int, std::string*, std::string*, int, int
                const unsigned char*, int, void*) {
   return true;
 }
+
+// More elements than any mesh we draw has; only accessors without data are held to it.
+constexpr size_t kMaxZeroElements = size_t(1) << 20;
 
 // glTF Y-up → vkrecon Z-up, a proper rotation (det +1) so windings are kept.
 Vector3d ZUp(const Vector3d& v) { return {v.x(), -v.z(), v.y()}; }
@@ -95,7 +97,12 @@ class Reader {
     if (index < 0 || size_t(index) >= m_.accessors.size()) Fail(field, "accessor index out of range");
     const tinygltf::Accessor& acc = m_.accessors[index];
     if (acc.sparse.isSparse) Fail(field, "sparse accessors are not supported");
-    if (acc.bufferView < 0) return {acc, nullptr, 0};  // glTF: all zeros
+    if (acc.bufferView < 0) {  // glTF: all zeros
+      // Nothing in the file backs the count: a few bytes could otherwise ask for terabytes.
+      if (acc.count > kMaxZeroElements)
+        Fail(field, "accessor without a bufferView claims " + std::to_string(acc.count) + " elements");
+      return {acc, nullptr, 0};
+    }
     if (size_t(acc.bufferView) >= m_.bufferViews.size()) Fail(field, "bufferView out of range");
     const tinygltf::BufferView& view = m_.bufferViews[acc.bufferView];
     if (view.buffer < 0 || size_t(view.buffer) >= m_.buffers.size()) Fail(field, "buffer out of range");
@@ -103,8 +110,13 @@ class Reader {
     const int elem = tinygltf::GetComponentSizeInBytes(uint32_t(acc.componentType)) *
                      tinygltf::GetNumComponentsInType(uint32_t(acc.type));
     if (stride <= 0 || elem <= 0) Fail(field, "invalid component type, type or byteStride");
-    const size_t need = acc.count == 0 ? 0 : acc.byteOffset + (acc.count - 1) * stride + elem;
-    if (need > view.byteLength || view.byteOffset + view.byteLength > m_.buffers[view.buffer].data.size())
+    // Compared by division and subtraction only: the counts and offsets come from the file,
+    // and a product or sum of them can wrap around past the check (tests/fuzz/regressions/gltf).
+    const size_t buffer_size = m_.buffers[view.buffer].data.size();
+    const size_t length = view.byteLength, offset = acc.byteOffset, element = size_t(elem);
+    const bool inside = acc.count == 0 || (offset <= length && element <= length - offset &&
+                                           acc.count - 1 <= (length - offset - element) / size_t(stride));
+    if (!inside || view.byteOffset > buffer_size || length > buffer_size - view.byteOffset)
       Fail(field, "accessor reads past the end of its buffer");
     return {acc, m_.buffers[view.buffer].data.data() + view.byteOffset + acc.byteOffset, size_t(stride)};
   }
@@ -192,22 +204,36 @@ Mesh LoadGltfMesh(const std::filesystem::path& file) {
   const Reader reader(model, name);
 
   // Mesh instances of the node tree: (mesh index, file_from_mesh).
+  // glTF node hierarchies are disjoint trees, so each node is visited once: a node reached
+  // twice (a shared child, a cycle) is refused, which also bounds the walk by the node
+  // count. A file of 40 nodes each listing the next twice once took 2^40 steps. The walk
+  // keeps its own stack, so a deep chain cannot overflow the thread's.
   std::vector<std::pair<int, Matrix4d>> instances;
-  std::function<void(int, const Matrix4d&, size_t)> visit = [&](int n, const Matrix4d& parent, size_t depth) {
-    if (n < 0 || size_t(n) >= model.nodes.size()) reader.Fail("nodes", "node index out of range");
-    if (depth > model.nodes.size()) reader.Fail("nodes", "the node hierarchy has a cycle");
-    const Matrix4d world = parent * LocalMatrix(model.nodes[n]);
-    if (model.nodes[n].mesh >= 0) instances.emplace_back(model.nodes[n].mesh, world);
-    for (int c : model.nodes[n].children) visit(c, world, depth + 1);
+  std::vector<bool> visited(model.nodes.size(), false);
+  auto visit = [&](int root) {
+    std::vector<std::pair<int, Matrix4d>> stack = {{root, Matrix4d::Identity()}};
+    while (!stack.empty()) {
+      const auto [n, parent] = stack.back();
+      stack.pop_back();
+      if (n < 0 || size_t(n) >= model.nodes.size()) reader.Fail("nodes", "node index out of range");
+      if (visited[size_t(n)])
+        reader.Fail("nodes[" + std::to_string(n) + "]",
+                    "node reached twice (a child of two nodes, or a cycle); glTF node hierarchies are trees");
+      visited[size_t(n)] = true;
+      const Matrix4d world = parent * LocalMatrix(model.nodes[n]);
+      if (model.nodes[n].mesh >= 0) instances.emplace_back(model.nodes[n].mesh, world);
+      const std::vector<int>& children = model.nodes[n].children;
+      for (auto c = children.rbegin(); c != children.rend(); ++c) stack.emplace_back(*c, world);  // in file order
+    }
   };
   if (!model.scenes.empty()) {
     const int s = model.defaultScene >= 0 && size_t(model.defaultScene) < model.scenes.size() ? model.defaultScene : 0;
-    for (int n : model.scenes[s].nodes) visit(n, Matrix4d::Identity(), 0);
+    for (int n : model.scenes[s].nodes) visit(n);
   } else if (!model.nodes.empty()) {  // no scene: every node that is nobody's child is a root
     std::vector<bool> child(model.nodes.size(), false);
     for (const auto& node : model.nodes)
       for (int c : node.children) if (c >= 0 && size_t(c) < child.size()) child[c] = true;
-    for (size_t n = 0; n < model.nodes.size(); ++n) if (!child[n]) visit(int(n), Matrix4d::Identity(), 0);
+    for (size_t n = 0; n < model.nodes.size(); ++n) if (!child[n]) visit(int(n));
   } else {  // bare meshes
     for (size_t i = 0; i < model.meshes.size(); ++i) instances.emplace_back(int(i), Matrix4d::Identity());
   }

@@ -6,7 +6,10 @@
 #include <OpenEXR/ImfHeader.h>
 #include <OpenEXR/ImfInputFile.h>
 #include <OpenEXR/ImfOutputFile.h>
+#include <OpenEXR/openexr.h>
 
+#include <algorithm>
+#include <cstdint>
 #include <cstring>
 #include <exception>
 #include <stdexcept>
@@ -32,6 +35,69 @@ void DataWindowSize(const std::filesystem::path& file, const Imf::Header& header
   *height = int(h);
 }
 
+// OpenEXR 3.1's C++ reader trusts the header: a 20 KB file made it allocate 1.2-1.9 GB
+// for an attribute (fuzz_image found three such headers, each read differently). Its C core
+// library, written to be fuzzed, parses the header with every size checked; in strict mode
+// it refuses those files and takes the good ones. So the core reads each header first and
+// the C++ reader only sees headers it accepted.
+thread_local std::string g_core_message;
+
+void KeepCoreMessage(exr_const_context_t, exr_result_t, const char* message) {
+  if (g_core_message.empty() && message) g_core_message = message;  // the first says most
+}
+
+// The C++ reader also sizes its decompression buffers by the header, before it reads a
+// pixel: a chunk of 16 scan lines of a 7,208,964-pixel-wide, 2-row image made it allocate
+// 1.8 GB from an 887-byte file (fuzz_image found it). A chunk or tile that would take more
+// than this decoded is refused; a 16384-wide RGBA float image needs 64 MiB even with DWAB's
+// 256 lines per chunk.
+constexpr uint64_t kMaxChunkBytes = uint64_t(256) << 20;
+
+// Decoded bytes of one chunk (scan-line block or tile) of `part`; 0 when unknown.
+uint64_t ChunkBytes(exr_const_context_t context, int part) {
+  const exr_attr_chlist_t* channels = nullptr;
+  exr_attr_box2i_t window{};
+  exr_storage_t storage = EXR_STORAGE_SCANLINE;
+  if (exr_get_channels(context, part, &channels) != EXR_ERR_SUCCESS || !channels ||
+      exr_get_data_window(context, part, &window) != EXR_ERR_SUCCESS ||
+      exr_get_storage(context, part, &storage) != EXR_ERR_SUCCESS)
+    return 0;
+  uint64_t bytes_per_pixel = 0;
+  for (int c = 0; c < channels->num_channels; ++c)
+    bytes_per_pixel += channels->entries[c].pixel_type == EXR_PIXEL_HALF ? 2 : 4;
+  uint32_t tile_x = 0, tile_y = 0;
+  exr_tile_level_mode_t level{};
+  exr_tile_round_mode_t round{};
+  if (storage != EXR_STORAGE_SCANLINE &&
+      exr_get_tile_descriptor(context, part, &tile_x, &tile_y, &level, &round) == EXR_ERR_SUCCESS)
+    return uint64_t(tile_x) * tile_y * bytes_per_pixel;
+  int32_t lines = 0;
+  if (exr_get_scanlines_per_chunk(context, part, &lines) != EXR_ERR_SUCCESS || lines <= 0) return 0;
+  const uint64_t width = uint64_t(int64_t(window.max.x) - window.min.x + 1);
+  return width * bytes_per_pixel * uint64_t(lines);
+}
+
+void CheckHeaderWithCore(const std::filesystem::path& file) {
+  exr_context_initializer_t init = EXR_DEFAULT_CONTEXT_INITIALIZER;
+  init.flags |= EXR_CONTEXT_FLAG_STRICT_HEADER;
+  init.error_handler_fn = &KeepCoreMessage;  // instead of printing to stderr
+  g_core_message.clear();
+  exr_context_t context = nullptr;
+  const exr_result_t result = exr_start_read(&context, file.c_str(), &init);
+  uint64_t chunk_bytes = 0;
+  int parts = 0;
+  if (result == EXR_ERR_SUCCESS && exr_get_count(context, &parts) == EXR_ERR_SUCCESS)
+    for (int part = 0; part < parts; ++part) chunk_bytes = std::max(chunk_bytes, ChunkBytes(context, part));
+  if (context) exr_finish(&context);
+  if (result != EXR_ERR_SUCCESS)
+    Fail(file, "invalid OpenEXR header: " +
+                   (g_core_message.empty() ? std::string(exr_get_default_error_message(result))
+                                           : g_core_message));
+  if (chunk_bytes > kMaxChunkBytes)
+    Fail(file, "OpenEXR chunks of " + std::to_string(chunk_bytes >> 20) +
+                   " MiB decoded are too large (a header claiming a huge width, or a broken file)");
+}
+
 std::string ChannelNames(const Imf::ChannelList& channels) {
   std::string names;
   for (auto it = channels.begin(); it != channels.end(); ++it)
@@ -40,6 +106,7 @@ std::string ChannelNames(const Imf::ChannelList& channels) {
 }
 
 Image ReadExrPixels(const std::filesystem::path& file) {
+  CheckHeaderWithCore(file);
   Imf::InputFile in(file.c_str());
   const Imf::Header& header = in.header();
   int width = 0, height = 0;
@@ -113,6 +180,7 @@ Image LoadExr(const std::filesystem::path& file) {
 
 void ReadExrSize(const std::filesystem::path& file, int* width, int* height) {
   try {
+    CheckHeaderWithCore(file);
     Imf::InputFile in(file.c_str());  // parses the header only; pixels are read on demand
     DataWindowSize(file, in.header(), width, height);
   } catch (const InputError&) {

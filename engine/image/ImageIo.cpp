@@ -72,11 +72,105 @@ std::vector<uint8_t> ReadBytes(const std::filesystem::path& file, FILE* f,
                  (reason ? reason : "unknown error") + ")");
 }
 
-// PNG, JPEG and the other formats stb_image knows. Four channels are requested so stb
-// expands grey to RGB and adds alpha 1 (opaque) where the file has none.
+// stb_image 2.27 (Debian 12) builds a JPEG Huffman table before checking that the DHT
+// segment declares at most 256 codes, and writes past the table's arrays when it declares
+// more (fuzz_image found it; stb 2.28 checks). The tables are checked here first, walking
+// the file as stb does: a marker is 0xFF and a byte other than 0x00 (stuffed), 0xFF (fill)
+// or a restart; anything else, such as entropy-coded data, is passed over byte by byte;
+// a segment is as long as its length field says (stb fails where it is not, so walking on
+// checks more than stb reads, never less), except that DHT tables are read while the
+// length has bytes left, even past the end of the file (where stb reads zeros).
+void CheckJpegHuffmanTables(const std::filesystem::path& file, const std::vector<uint8_t>& bytes) {
+  size_t pos = 2;  // after SOI
+  while (pos + 1 < bytes.size()) {
+    const uint8_t marker = bytes[pos + 1];
+    if (bytes[pos] != 0xFF || marker == 0xFF) {
+      ++pos;
+      continue;
+    }
+    if (marker == 0x00 || (marker >= 0xD0 && marker <= 0xD7)) {
+      pos += 2;
+      continue;
+    }
+    if (marker == 0xD9 || pos + 3 >= bytes.size()) return;  // EOI, or the file ends
+    const size_t length = size_t(bytes[pos + 2]) << 8 | bytes[pos + 3];
+    if (marker != 0xC4) {
+      pos += 2 + length;
+      continue;
+    }
+    long left = long(length) - 2;
+    pos += 4;
+    while (left > 0 && pos < bytes.size()) {
+      size_t codes = 0;  // stb reads 0 past the end of the file
+      for (size_t i = pos + 1; i <= pos + 16 && i < bytes.size(); ++i) codes += bytes[i];
+      if (codes > 256)
+        Fail(file, "corrupt JPEG: a Huffman table declares " + std::to_string(codes) +
+                       " codes (at most 256)");
+      pos += 17 + codes;
+      left -= long(17 + codes);
+    }
+  }
+}
+
+bool IsPng(std::span<const uint8_t> head) {
+  static constexpr uint8_t kMagic[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1A, '\n'};
+  return head.size() >= 8 && std::memcmp(head.data(), kMagic, 8) == 0;
+}
+bool IsJpeg(std::span<const uint8_t> head) {
+  return head.size() >= 3 && head[0] == 0xFF && head[1] == 0xD8 && head[2] == 0xFF;
+}
+
+// stb_image also reads BMP, GIF, PSD, HDR, PIC and TGA, which vkrecon does not promise, and
+// TGA has no magic number: any 20 bytes of junk could become an 8224x8224 picture that took
+// 20 s to fill (fuzz_image found it). Only PNG and JPEG go to stb.
+void RequirePngOrJpeg(const std::filesystem::path& file, std::span<const uint8_t> head) {
+  if (!IsPng(head) && !IsJpeg(head)) Fail(file, "not a PNG/JPEG/PGM/PPM/EXR image");
+}
+
+// stb_image 2.27 grows its IDAT buffer to the length a chunk claims before reading the
+// chunk: 107 bytes claiming a 1.2 GB chunk made it allocate 1.2 GB (fuzz_image found it).
+// stb walks a PNG chunk by chunk, by their lengths, as this does; a chunk longer than what
+// is left of the file means the file is cut short (or forged).
+void CheckPngChunkLengths(const std::filesystem::path& file, const std::vector<uint8_t>& bytes) {
+  for (size_t pos = 8; pos + 8 <= bytes.size();) {
+    const uint32_t length = uint32_t(bytes[pos]) << 24 | uint32_t(bytes[pos + 1]) << 16 |
+                            uint32_t(bytes[pos + 2]) << 8 | bytes[pos + 3];
+    std::string type(bytes.begin() + long(pos) + 4, bytes.begin() + long(pos) + 8);
+    for (char& c : type)
+      if (!std::isalnum(static_cast<unsigned char>(c))) c = '?';
+    const size_t left = bytes.size() - pos - 8;
+    if (length > left)
+      Fail(file, "PNG is truncated: chunk " + type + " claims " + std::to_string(length) +
+                     " bytes, " + std::to_string(left) + " remain");
+    if (type == "IEND") return;
+    pos += 12 + size_t(length);
+  }
+}
+
+// Every 8x8 block of a JPEG's full-resolution component costs at least one bit (its DC
+// code, in baseline and progressive files alike), so a JPEG with fewer than w*h/512 bytes
+// is truncated or forged. stb would decode it anyway, inventing the missing data: 810 bytes
+// claiming 8200x4104 pixels took 5 s (fuzz_image found it).
+void CheckJpegDataForSize(const std::filesystem::path& file, const std::vector<uint8_t>& bytes) {
+  int w = 0, h = 0, comp = 0;
+  if (!stbi_info_from_memory(bytes.data(), int(bytes.size()), &w, &h, &comp)) return;  // stb says why
+  if (double(bytes.size()) * 512.0 < double(w) * double(h))
+    Fail(file, "corrupt JPEG: " + std::to_string(bytes.size()) + " bytes cannot hold " +
+                   std::to_string(w) + "x" + std::to_string(h) + " pixels");
+}
+
+// PNG and JPEG. Four channels are requested so stb expands grey to RGB and adds alpha 1
+// (opaque) where the file has none.
 Image DecodeWithStb(const std::filesystem::path& file, const std::vector<uint8_t>& bytes) {
   if (bytes.size() > size_t(INT_MAX)) Fail(file, "file is too large for stb_image (> 2 GiB)");
+  RequirePngOrJpeg(file, bytes);
   const int len = int(bytes.size());
+  if (IsJpeg(bytes)) {
+    CheckJpegHuffmanTables(file, bytes);
+    CheckJpegDataForSize(file, bytes);
+  } else {
+    CheckPngChunkLengths(file, bytes);
+  }
   int w = 0, h = 0, channels_in_file = 0;
   Image image;
   // 16-bit PNGs keep their precision; stbi_load would round them to 8 bits.
@@ -154,9 +248,21 @@ void ReadImageSize(const std::filesystem::path& file, int* width, int* height) {
     image_detail::ReadPnmSize(file, head, width, height);
     return;
   }
-  // stb reads only as far as the size: the IHDR chunk of a PNG, the SOF marker of a JPEG.
-  std::rewind(f.get());
+  RequirePngOrJpeg(file, head);
   int comp = 0;
+  if (IsJpeg(head)) {
+    // stb reads a JPEG's Huffman tables on its way to the size (they may come first), so
+    // they are checked here too, in the whole file: the headers may be longer than `head`.
+    std::vector<uint8_t> bytes = head;
+    const std::vector<uint8_t> rest = ReadBytes(file, f.get());
+    bytes.insert(bytes.end(), rest.begin(), rest.end());
+    if (bytes.size() > size_t(INT_MAX)) Fail(file, "file is too large for stb_image (> 2 GiB)");
+    CheckJpegHuffmanTables(file, bytes);
+    if (!stbi_info_from_memory(bytes.data(), int(bytes.size()), width, height, &comp)) FailStb(file);
+    return;
+  }
+  // stb reads only as far as the size: the IHDR chunk of a PNG.
+  std::rewind(f.get());
   if (!stbi_info_from_file(f.get(), width, height, &comp)) FailStb(file);
 }
 

@@ -73,7 +73,8 @@ PnmHeader ParseHeader(const std::filesystem::path& file, std::span<const uint8_t
   const long long w = reader.Integer("width");
   const long long hh = reader.Integer("height");
   const long long maxval = reader.Integer("maxval");
-  if (w <= 0 || hh <= 0 || w * hh > kMaxPixels)
+  // Each side first, so the product cannot overflow (the digits allow up to ~10^13 each).
+  if (w <= 0 || hh <= 0 || w > kMaxPixels || hh > kMaxPixels || w * hh > kMaxPixels)
     Fail(file, "PGM/PPM size " + std::to_string(w) + "x" + std::to_string(hh) +
                    " is empty or too large");
   if (maxval < 1 || maxval > 65535)
@@ -105,8 +106,15 @@ void ReadPnmSize(const std::filesystem::path& file, std::span<const uint8_t> hea
 
 Image DecodePnm(const std::filesystem::path& file, std::span<const uint8_t> bytes) {
   const PnmHeader h = ParseHeader(file, bytes);
-  Image image(h.width, h.height, 1.0f);  // alpha 1; colour overwritten below
   const size_t samples = size_t(h.width) * h.height * h.channels;
+  // The raster must be there before the image is allocated: a 30-byte file claiming
+  // 16384x16384 pixels would otherwise cost 4 GiB (tests/fuzz/regressions/image). An ASCII
+  // sample takes at least a digit and a separator.
+  const size_t bytes_per_sample = h.binary ? (h.maxval < 256 ? 1 : 2) : 2;
+  const size_t available = bytes.size() - h.raster + (h.binary ? 0 : 1);  // + ASCII's last separator
+  if (available / bytes_per_sample < samples)
+    Fail(file, "PGM/PPM raster is truncated (" + std::to_string(samples) + " samples expected)");
+  Image image(h.width, h.height, 1.0f);  // alpha 1; colour overwritten below
   const float maxval = float(h.maxval);
   auto store = [&](size_t i, long long value) {
     if (value > h.maxval)
@@ -125,10 +133,6 @@ Image DecodePnm(const std::filesystem::path& file, std::span<const uint8_t> byte
 
   if (h.binary) {
     // Samples wider than a byte are big-endian (Netpbm specification).
-    const size_t bytes_per_sample = h.maxval < 256 ? 1 : 2;
-    if (bytes.size() < h.raster || bytes.size() - h.raster < samples * bytes_per_sample)
-      Fail(file, "PGM/PPM raster is truncated (" + std::to_string(samples * bytes_per_sample) +
-                     " bytes expected)");
     const uint8_t* data = bytes.data() + h.raster;
     for (size_t i = 0; i < samples; ++i) {
       const long long v = bytes_per_sample == 1 ? data[i] : (data[2 * i] << 8) | data[2 * i + 1];

@@ -3,11 +3,13 @@
 // would, and a mistyped key is caught as an unknown key.
 
 #include <cctype>
+#include <filesystem>
 
 #include "engine/common/InputError.h"
 #include "engine/scene/SceneJson.h"
 
-namespace vkr::scene_detail {
+namespace vkr {
+namespace scene_detail {
 namespace {
 
 // One step of a dotted path: an object key, or a list index.
@@ -46,12 +48,49 @@ std::vector<Step> SplitPath(const std::string& path, const std::string& display)
   return steps;
 }
 
+// nlohmann's serialiser checks UTF-8; its parser checks a file's strings, but a --set value
+// taken as a plain string is never parsed.
+bool IsUtf8(const std::string& text) {
+  try {
+    (void)Json(text).dump();
+    return true;
+  } catch (const Json::type_error&) {
+    return false;
+  }
+}
+
 }  // namespace
+
+}  // namespace scene_detail
+
+std::vector<SceneOverride> ParseOverrides(const std::vector<std::string>& sets) {
+  std::vector<SceneOverride> out;
+  for (const std::string& s : sets) {
+    const size_t eq = s.find('=');
+    if (eq == std::string::npos || eq == 0)
+      throw InputError("", "--set", "expected PATH=VALUE, got '" + s + "'");
+    SceneOverride o{s.substr(0, eq), s.substr(eq + 1)};
+    const std::string& key = o.path;
+    const bool path_field = key == "images" || key == "cameras" || key == "masks" || key == "cameras.colmap" ||
+                            key.ends_with(".albedo") || key.ends_with(".mesh");
+    if (path_field && !o.value.empty() && o.value.front() != '{' && o.value.front() != '[' &&
+        o.value.front() != '"' && std::filesystem::path(o.value).is_relative())
+      o.value = std::filesystem::absolute(o.value).string();
+    out.push_back(o);
+  }
+  return out;
+}
+
+namespace scene_detail {
 
 std::set<std::string> ApplyOverrides(Json& root, const std::vector<SceneOverride>& overrides,
                                      const std::string& display) {
   std::set<std::string> paths;
   for (const SceneOverride& o : overrides) {
+    // Invalid UTF-8 in the scene's JSON would make every later dump of it throw a JSON
+    // error instead of an InputError (fuzz_scene_json found it in a message).
+    if (!IsUtf8(o.path) || !IsUtf8(o.value))
+      throw InputError(display, "--set", "'" + o.path + "' or its value is not valid UTF-8");
     const std::vector<Step> steps = SplitPath(o.path, display);
     Json* node = &root;
     std::string at;  // canonical path walked so far, for messages
@@ -83,4 +122,5 @@ std::set<std::string> ApplyOverrides(Json& root, const std::vector<SceneOverride
   return paths;
 }
 
-}  // namespace vkr::scene_detail
+}  // namespace scene_detail
+}  // namespace vkr

@@ -201,6 +201,11 @@ struct SceneOverride {
   std::string value;  // parsed as JSON if it parses, else taken as a string
 };
 
+// Splits command-line `--set PATH=VALUE` strings. Path fields (images, cameras, masks,
+// …albedo, …mesh) typed relative are made absolute: on the command line they are relative to
+// where the user is, not to the scene file. Throws InputError("", "--set", …) without '='.
+std::vector<SceneOverride> ParseOverrides(const std::vector<std::string>& sets);
+
 // What LoadScene checks beyond the scene file itself.
 struct LoadOptions {
   // Whether every camera's image must exist and match the camera's size. `vkrecon synth`

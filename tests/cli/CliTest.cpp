@@ -56,6 +56,24 @@ TEST(Cli, MalformedSceneIsNamed) {
                  {"scene.json"});
 }
 
+// 100,000 '[' once took minutes (the reader's work grew with the square of the depth); now
+// they are refused at the 65th level, whichever JSON file they are in.
+TEST(Cli, DeeplyNestedJsonIsRefusedAtTheNestingLimit) {
+  TempDir dir;
+  const std::string deep(100000, '[');
+  test::WriteText(dir / "scene.json", deep);
+  ExpectBadInput(RunCommand(kVkrecon + " render " + Quote(dir / "scene.json") + " -o " + Quote(dir / "v.exr")),
+                 {"scene.json", "nesting deeper than 64 levels at byte 65"});
+  test::WriteText(dir / "cams/scene.json", R"({"version": 1, "cameras": "cameras.json", "nodes": [{"name": "b", "primitive": "box"}]})");
+  test::WriteText(dir / "cams/cameras.json", "{\"cameras\": " + deep);
+  ExpectBadInput(RunCommand(kVkrecon + " render " + Quote(dir / "cams/scene.json") + " -o " + Quote(dir / "v.exr")),
+                 {"cameras.json", "nesting deeper than 64 levels at byte 76"});
+  test::WriteText(dir / "at.json", deep);
+  ExpectBadInput(RunCommand(kVkrecon + " synth " + Quote(kAssets / "box/scene.json") + " --at " +
+                            Quote(dir / "at.json") + " -o " + Quote(dir / "o")),
+                 {"at.json", "nesting deeper than 64 levels"});
+}
+
 TEST(Cli, SceneWithNothingToDrawIsBadInput) {
   TempDir dir;
   test::WriteText(dir / "scene.json", R"({"version": 1, "nodes": [{"name": "pivot"}]})");
