@@ -28,7 +28,7 @@ cmake -S . -B "$BUILD_DIR" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DVKRECON_
   -DCMAKE_CXX_FLAGS="$SAN_FLAGS" -DCMAKE_EXE_LINKER_FLAGS="$SAN_FLAGS $KEEP_LVP" >/dev/null
 
 # Exported before the build too: gtest_discover_tests runs every test binary at build time.
-export ASAN_OPTIONS="exitcode=86:check_initialization_order=1:strict_init_order=1"
+export ASAN_OPTIONS="exitcode=86:check_initialization_order=1:strict_init_order=1:detect_stack_use_after_return=1"
 export LSAN_OPTIONS="suppressions=$SUPP_DIR/lsan.supp:print_suppressions=0"
 export UBSAN_OPTIONS="exitcode=86:print_stacktrace=1:halt_on_error=1:suppressions=$SUPP_DIR/ubsan.supp"
 cmake --build "$BUILD_DIR" -j "$(nproc)"
