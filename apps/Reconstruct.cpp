@@ -144,7 +144,6 @@ std::vector<opt::ParameterSpec> ParameterSpecs(const Scene& scene) {
   return specs;
 }
 
-
 std::string Duration(double seconds) {
   if (!std::isfinite(seconds) || seconds < 0) return "?";
   char buf[32];
