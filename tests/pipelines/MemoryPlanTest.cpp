@@ -7,30 +7,20 @@
 #include "pipelines/likelihood/ImageLikelihood.h"
 #include "pipelines/likelihood/MemoryPlan.h"
 #include "pipelines/likelihood/SurfaceLikelihood.h"
-#include "pipelines/rendering/ViewRendering.h"
 #include "tests/common/GpuTest.h"
 #include "tests/common/TestFiles.h"
+#include "tests/pipelines/SynthesisedAsset.h"
 
 namespace vkr {
 namespace {
-
-namespace fs = std::filesystem;
 
 // The box asset at quarter size (160×120, 9 cameras), photographed once for the suite.
 class MemoryPlanBox : public test::GpuTest {
  protected:
   static void SetUpTestSuite() {
     dir_ = new test::TempDir;
-    const fs::path root = fs::path(VKRECON_SOURCE_DIR) / "assets/box";
-    SynthOptions synth;
-    synth.scene_file = root / "scene.json";
-    synth.at_file = root / "truth.json";
-    synth.output_dir = dir_->path();
-    synth.scale = 0.25;
-    synth.atlas = 256;
-    SynthesiseImages(synth, device());
-    scene_ = new Scene(LoadScene(root / "scene.json", {{"cameras", (*dir_ / "cameras.json").string()},
-                                                       {"images", dir_->path().string()}}));
+    std::vector<double> truth;
+    scene_ = new Scene(test::SynthesisedScene(device(), "box", 0.0, *dir_, &truth));
   }
   static void TearDownTestSuite() {
     delete scene_;
