@@ -132,8 +132,8 @@ Diagnosis Diagnose(const Scene& scene, const Evaluation& at_map, double sigma_25
   const nlohmann::json& calibration = summary.calibration;
   if (calibration.is_object() && calibration.contains("kappa_min") && calibration["kappa_min"].is_number()) {
     const double kappa_min = calibration["kappa_min"].get<double>();
-    // Still below after the sampler measured the curvature again over wider steps
-    // (NoiseCalibration.h): the intervals may be too narrow.
+    // Still below once the calibration has settled (NoiseCalibration.h, optimiser/Settle.cpp):
+    // the intervals may be too narrow.
     if (kappa_min < kMinSandwichEigenvalue) {
       other.push_back(Format("the curvature measured at the mode is doubtful (the sandwich's smallest eigenvalue is "
                              "%.2f, below 1): kappa may be too small and the intervals too narrow; run again with "

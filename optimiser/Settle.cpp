@@ -1,7 +1,7 @@
 // Settling (SamplerOptions::settle): the frame after the mid-run refinement has found the
 // mode. The curvature of the log posterior there is measured by central finite
 // differences, the target recalibrates its noise model at the mode given that curvature
-// (and the curvature is measured again if it did), and every replica restarts
+// (and the curvature is measured again if it did, until κ settles), and every replica restarts
 // around the mode, drawn from the Laplace approximation N(mode, spread² · T · Σ) with
 // Σ = (−∇² log p)⁻¹. Σ is also each replica's proposal covariance until the adaptation
 // has collected enough states.
@@ -14,33 +14,31 @@
 namespace vkr::opt::detail {
 namespace {
 
-// Steps for the second measurement when the target doubts the first: on the poster at
-// σ = 16 (docs/NOISE_STUDY.md) steps of one sd gave κ 2.7 and 1 of 4 intervals holding the
-// truth, steps of 4 sds κ 17.7–37 and 4 of 4 (docs/LIKELIHOOD.md, "Honest intervals").
-constexpr double kWideCurvatureSteps = 4.0;
+// Calibrations at one mode until κ moves by less than this share (or kMaxCalibrations).
+constexpr double kKappaSettled = 0.1;
+constexpr int kMaxCalibrations = 4;
 
 // Finite-difference step per parameter: about one posterior sd, as the refinement's
-// inverse Hessian estimates it, times `scale`. Steps far below the sd measure rasterisation
-// steps of the likelihood rather than its curvature; steps far above it leave the quadratic
-// region.
-std::vector<double> CurvatureSteps(const State& s, double scale) {
+// inverse Hessian estimates it. Steps far below the sd measure rasterisation steps of
+// the likelihood rather than its curvature; steps far above it leave the quadratic region.
+std::vector<double> CurvatureSteps(const State& s) {
   const int d = s.dimension();
   std::vector<double> h(static_cast<size_t>(d), 0.0);
   for (int i = 0; i < d; ++i) {
     const double w = s.parameters[size_t(i)].Width();
     double sd = s.refine.inverse_hessian.rows() == d ? std::sqrt(std::max(s.refine.inverse_hessian(i, i), 0.0)) : 0.0;
     if (!std::isfinite(sd)) sd = 0.0;
-    h[size_t(i)] = std::clamp(scale * sd, 1e-5 * w, 0.02 * w);
+    h[size_t(i)] = std::clamp(sd, 1e-5 * w, 0.02 * w);
   }
   return h;
 }
 
 // −∇² log p at `mode` from 1 + 2d + 2d(d − 1) points (evaluated in batches of the target's
 // size). Empty when a needed point cannot be scored or lies outside the support.
-Eigen::MatrixXd NegativeHessian(const State& s, const std::vector<double>& mode, double step_scale,
-                                const BatchEvaluator& evaluate, double* mode_log_likelihood) {
+Eigen::MatrixXd NegativeHessian(const State& s, const std::vector<double>& mode, const BatchEvaluator& evaluate,
+                                double* mode_log_likelihood) {
   const int d = s.dimension();
-  const std::vector<double> h = CurvatureSteps(s, step_scale);
+  const std::vector<double> h = CurvatureSteps(s);
   std::vector<std::vector<double>> batch{mode};
   auto shifted = [&](int i, double si, int j, double sj) {
     std::vector<double> x = mode;
@@ -77,9 +75,9 @@ Eigen::MatrixXd NegativeHessian(const State& s, const std::vector<double>& mode,
 }
 
 // (−∇² log p)⁻¹, with the curvature made positive definite (a direction measured flat or
-// convex gets the smallest positive curvature found, i.e. the widest sd) and every sd
-// capped at a quarter of the prior width, where the prior takes over.
-Eigen::MatrixXd LaplaceCovariance(const State& s, const Eigen::MatrixXd& curvature) {
+// convex gets the smallest positive curvature found, i.e. the widest sd). It is what the
+// target calibrates with: a covariance exactly κ times the raw likelihood's, whatever κ is.
+Eigen::MatrixXd InverseCurvature(const State& s, const Eigen::MatrixXd& curvature) {
   const int d = s.dimension();
   const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(curvature);
   if (eigen.info() != Eigen::Success) return {};
@@ -91,7 +89,16 @@ Eigen::MatrixXd LaplaceCovariance(const State& s, const Eigen::MatrixXd& curvatu
     if (lambda[i] > 0.0) smallest_positive = std::min(smallest_positive, lambda[i]);
   for (int i = 0; i < d; ++i) lambda[i] = std::max(lambda[i], smallest_positive);
   const Eigen::MatrixXd& v = eigen.eigenvectors();
-  Eigen::MatrixXd cov = v * lambda.cwiseInverse().asDiagonal() * v.transpose();
+  const Eigen::MatrixXd cov = v * lambda.cwiseInverse().asDiagonal() * v.transpose();
+  return 0.5 * (cov + cov.transpose());
+}
+
+// The inverse curvature with every sd capped at a quarter of the prior width, where the
+// prior takes over: the covariance replicas restart from and propose with. The cap depends
+// on κ, so the target never sees this one (a capped covariance fed back into the
+// calibration moved κ 56 → 964 → 158 at one mode on the demo's house).
+Eigen::MatrixXd LaplaceCovariance(const State& s, Eigen::MatrixXd cov) {
+  const int d = s.dimension();
   for (int i = 0; i < d; ++i) {
     const double cap = 0.25 * s.parameters[size_t(i)].Width();
     const double sd = std::sqrt(cov(i, i));
@@ -118,29 +125,31 @@ void RestartFrame(State& s, Target& target, const BatchEvaluator& evaluate) {
   const int d = s.dimension();
   const std::vector<double> mode = s.refine.have_point ? s.refine.psi : s.best.psi;
   double mode_log_likelihood = -kInf;
-  double step_scale = 1.0;
+  Eigen::MatrixXd inverse_curvature;
   const auto measure = [&] {
-    const Eigen::MatrixXd curvature = NegativeHessian(s, mode, step_scale, evaluate, &mode_log_likelihood);
-    s.laplace = curvature.size() ? LaplaceCovariance(s, curvature) : Eigen::MatrixXd();
-    if (s.laplace.size() == 0) s.laplace = FallbackCovariance(s);
-  };
-  const auto calibrate = [&] {
-    std::vector<double> covariance;
-    for (int i = 0; i < s.laplace.rows(); ++i)
-      for (int k = 0; k < s.laplace.cols(); ++k) covariance.push_back(s.laplace(i, k));
-    s.calibration = target.Calibrate(mode, covariance);
-    if (!s.calibration.is_null()) measure();  // the log posterior changed: measure it again
+    const Eigen::MatrixXd curvature = NegativeHessian(s, mode, evaluate, &mode_log_likelihood);
+    inverse_curvature = curvature.size() ? InverseCurvature(s, curvature) : Eigen::MatrixXd();
+    if (inverse_curvature.size() == 0) inverse_curvature = FallbackCovariance(s);
+    s.laplace = inverse_curvature.size() ? LaplaceCovariance(s, inverse_curvature) : Eigen::MatrixXd();
   };
   measure();
-  calibrate();
-  // The target found the curvature inconsistent (Target::Calibrate): one sd apart the
-  // likelihood was rough (8-bit views, rasterisation: the poster at σ = 16 in
-  // docs/NOISE_STUDY.md measured 50× too curved). Wider steps see its trend.
-  if (s.calibration.is_object() && s.calibration.value("curvature_doubtful", false)) {
-    step_scale = kWideCurvatureSteps;
-    measure();
-    calibrate();
-    if (s.calibration.is_object()) s.calibration["curvature_step_scale"] = step_scale;
+  // The target corrects the curvature it is given for the noise model it changes, which is
+  // only approximate when σ moves far (σ 8 → 3.9 on the demo's house gave κ 2,476, then
+  // 10.1 measured again under the new σ): calibrate again, with the curvature measured
+  // under the last calibration, until κ settles.
+  double kappa = 0.0;
+  for (int round = 0; round < kMaxCalibrations; ++round) {
+    std::vector<double> covariance;
+    for (int i = 0; i < inverse_curvature.rows(); ++i)
+      for (int k = 0; k < inverse_curvature.cols(); ++k) covariance.push_back(inverse_curvature(i, k));
+    s.calibration = target.Calibrate(mode, covariance);
+    if (s.calibration.is_null()) break;
+    measure();  // the log posterior changed: measure it again
+    if (!s.calibration.is_object() || !s.calibration.contains("kappa")) break;
+    const double next = s.calibration.value("kappa", 1.0);
+    const bool settled = std::abs(next - kappa) <= kKappaSettled * next;
+    kappa = next;
+    if (settled) break;
   }
 
   // Log-likelihoods before the calibration are not comparable with those after it.

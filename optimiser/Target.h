@@ -30,13 +30,12 @@ class Target {
   // Nuisance parameters of the likelihood — its noise level, how much evidence its samples
   // really carry — estimated at ψ, the mode the sampler found once the exploration is over;
   // `covariance` (d × d, row-major) is the inverse curvature of the log posterior measured
-  // there, as the target scored so far (after an earlier calibration, with it). Afterwards
-  // Evaluate() scores with them. Returns what was estimated (kept
+  // there, as the target scored so far (after an earlier calibration, with it; not capped
+  // by the prior). Afterwards Evaluate() scores with them. Returns what was estimated (kept
   // in checkpoints and map.json), null when the target has nothing to estimate;
-  // RestoreCalibration puts a returned value back when a run resumes. A returned object with
-  // "curvature_doubtful": true says the curvature does not fit what the target found (the
-  // log posterior is rough at that scale): the sampler measures it again over wider steps
-  // and calls Calibrate once more.
+  // RestoreCalibration puts a returned value back when a run resumes. While a returned
+  // object's "kappa" moves, the sampler measures the curvature again and calls Calibrate
+  // once more (at most four times per settling round).
   virtual nlohmann::json Calibrate(const std::vector<double>& psi, const std::vector<double>& covariance) {
     (void)psi;
     (void)covariance;

@@ -34,8 +34,8 @@ namespace vkr {
 // H⁻¹J has eigenvalues of at least about 1 when texels are positively correlated, as
 // neighbouring texels are; one below this means the curvature H measured at the mode was
 // too large (the likelihood is rough at one posterior sd: 8-bit views, rasterisation) and
-// κ too small. ToJson says so ("curvature_doubtful"), the sampler then measures H again over
-// wider steps (optimiser/Settle.cpp), and a diagnosis that still sees it doubts the intervals.
+// κ too small. ToJson says so ("curvature_doubtful") and the run's diagnosis then doubts the
+// intervals.
 constexpr double kMinSandwichEigenvalue = 1.0;
 
 struct NoiseCalibration {

@@ -147,39 +147,49 @@ TEST(Settle, CalibrationAtTheModeWidensThePosteriorAndSurvivesResume) {
   }
 }
 
-// A target that doubts every curvature it is given (Target::Calibrate): at each settling
-// round the sampler measures it again over wider steps, calibrates once more, says so, and
-// goes on (it does not loop).
-class DoubtingTarget : public CalibratingTarget {
+// A target whose κ depends on the curvature it is given, as SurfaceLikelihood's does when
+// its noise model moves far in one calibration: each estimate is the geometric mean of the
+// true κ = 4 and the κ the given covariance was measured under, so one calibration from
+// κ = 1 says 2. The sampler calibrates again until κ settles, giving it always the
+// curvature measured under the last calibration.
+class ConvergingTarget : public CalibratingTarget {
  public:
-  using CalibratingTarget::CalibratingTarget;
-  nlohmann::json Calibrate(const std::vector<double>& psi, const std::vector<double>& covariance) override {
-    nlohmann::json j = CalibratingTarget::Calibrate(psi, covariance);
-    ++calls;
-    j["curvature_doubtful"] = true;
-    return j;
+  ConvergingTarget(Gaussian g, double variance0) : CalibratingTarget(g, 1.0), g_(std::move(g)), variance0_(variance0) {}
+  std::vector<double> Evaluate(const std::vector<std::vector<double>>& batch) override {
+    std::vector<double> out;
+    for (const auto& psi : batch) out.push_back(g_(psi) / kappa);
+    return out;
   }
+  nlohmann::json Calibrate(const std::vector<double>& psi, const std::vector<double>& covariance) override {
+    (void)psi;
+    const double measured_under = covariance.at(0) / variance0_;
+    kappa = std::sqrt(4.0 * measured_under);
+    ++calls;
+    return {{"kappa", kappa}};
+  }
+  double kappa = 1.0;
   int calls = 0;
+
+ private:
+  Gaussian g_;
+  double variance0_;
 };
 
-TEST(Settle, ADoubtedCurvatureIsMeasuredAgainOverWiderSteps) {
+TEST(Settle, TheCalibrationIsRepeatedUntilKappaSettles) {
   const NarrowPosterior n;
   const Gaussian g(n.mu, n.Covariance());
   const int rounds = NarrowOptions().settle_rounds;
   ASSERT_GE(rounds, 1);
-  DoubtingTarget doubting(g, 4.0);
+  ConvergingTarget target(g, n.sd[0] * n.sd[0]);
   SamplerSummary s;
-  ASSERT_TRUE(opt::Run(NarrowOptions(), n.Parameters(), doubting, &s)) << s.message;
-  EXPECT_EQ(doubting.calls, 2 * rounds);
-  EXPECT_EQ(s.calibration.value("curvature_step_scale", 0.0), 4.0);
-  // A Gaussian has the same curvature at any step: the wider steps still find it.
+  ASSERT_TRUE(opt::Run(NarrowOptions(), n.Parameters(), target, &s)) << s.message;
+  // 1 → 2 → 2.83 → 3.36 → 3.67 stops at the cap of four, the next round 3.83 → 3.92 settles.
+  EXPECT_GT(target.calls, 2 * rounds);
+  EXPECT_LE(target.calls, 4 * rounds);
+  EXPECT_GT(target.kappa, 3.5);  // one calibration per round would have stopped at 2 and 2.83
+  EXPECT_NEAR(s.calibration.value("kappa", 0.0), target.kappa, 1e-12);
   for (int i = 0; i < 4; ++i)
-    EXPECT_NEAR(s.parameters[size_t(i)].laplace_sd, 2.0 * n.sd[i], 0.1 * n.sd[i]) << i;
-
-  CalibratingTarget trusting(g, 4.0);
-  SamplerSummary t;
-  ASSERT_TRUE(opt::Run(NarrowOptions(), n.Parameters(), trusting, &t)) << t.message;
-  EXPECT_FALSE(t.calibration.contains("curvature_step_scale"));
+    EXPECT_NEAR(s.parameters[size_t(i)].laplace_sd, std::sqrt(target.kappa) * n.sd[i], 0.1 * n.sd[i]) << i;
 }
 
 }  // namespace
