@@ -115,6 +115,7 @@ json StateToJson(const State& s) {
                {"log_prior", JsonNumber(s.best.log_prior)},
                {"log_likelihood", JsonNumber(s.best.log_likelihood)}};
   j["sampling_best"] = JsonNumber(s.sampling_best);
+  j["convergence"] = {{"ended_by", s.ended_by}, {"max_rhat", JsonNumber(s.max_rhat)}, {"min_ess", JsonNumber(s.min_ess)}};
 
   const RefineState& r = s.refine;
   j["refine"] = {{"step", r.step},
@@ -216,6 +217,10 @@ State StateFromJson(const json& j) {
     s.best.log_prior = ReadNumber(best.at("log_prior"));
     s.best.log_likelihood = ReadNumber(best.at("log_likelihood"));
     s.sampling_best = ReadNumber(j.at("sampling_best"));
+    const json& convergence = j.at("convergence");
+    s.ended_by = convergence.at("ended_by").get<std::string>();
+    s.max_rhat = ReadNumber(convergence.at("max_rhat"));
+    s.min_ess = ReadNumber(convergence.at("min_ess"));
 
     const json& jr = j.at("refine");
     RefineState& r = s.refine;

@@ -345,14 +345,31 @@ struct Engine {
       s.samples.push_back(std::move(row));
     }
 
-    if (++s.iteration == s.options.iterations) {
-      s.sampling_best = s.best.valid && s.best.level == 0 ? s.best.log_posterior() : -kInf;
-      if (s.options.refine_steps > 0 && s.best.valid && s.best.level == 0) {
-        s.phase = Phase::Refining;
-        StartRefinement(s);
-      } else {
-        s.phase = Phase::Done;
-      }
+    ++s.iteration;
+    // Convergence is measured for the progress line with either length; with
+    // until_converged it also decides the length.
+    const int interval = s.options.convergence_interval;
+    const bool check = s.iteration > s.options.BurnIn() && (s.iteration - s.options.BurnIn()) % interval == 0;
+    if (check) MeasureConvergence(s);
+    if (!s.options.until_converged) {
+      if (s.iteration == s.options.iterations) EndSampling("iterations");
+    } else if (s.iteration >= s.options.iterations) {
+      if (check && s.max_rhat <= s.options.target_rhat && s.min_ess >= s.options.target_ess)
+        EndSampling("converged");
+      else if (s.iteration >= s.options.max_iterations)
+        EndSampling("max_iterations");
+    }
+  }
+
+  void EndSampling(const char* why) {
+    MeasureConvergence(s);
+    s.ended_by = why;
+    s.sampling_best = s.best.valid && s.best.level == 0 ? s.best.log_posterior() : -kInf;
+    if (s.options.refine_steps > 0 && s.best.valid && s.best.level == 0) {
+      s.phase = Phase::Refining;
+      StartRefinement(s);
+    } else {
+      s.phase = Phase::Done;
     }
   }
 
@@ -363,6 +380,9 @@ struct Engine {
     p.evaluations = s.evaluations;
     p.iteration = s.iteration;
     p.iterations = s.options.iterations;
+    p.until_converged = s.options.until_converged;
+    p.max_rhat = s.max_rhat;
+    p.min_ess = s.min_ess;
     p.refine_step = s.refine.step;
     p.level = s.level;
     p.temperature = s.AnnealTemperature(std::min(s.iteration, s.options.iterations - 1));
@@ -440,6 +460,13 @@ Progress Sampler::Step() {
 }
 
 Progress Sampler::progress() const { return impl_->MakeProgress(); }
+
+bool Sampler::FinishSampling() {
+  detail::State& s = impl_->s;
+  if (s.phase != Phase::Sampling || s.iteration <= s.options.BurnIn()) return false;
+  impl_->EndSampling("time_limit");
+  return true;
+}
 nlohmann::json Sampler::Checkpoint() const { return detail::StateToJson(impl_->s); }
 SamplerSummary Sampler::Summary() const { return detail::Summarise(impl_->s); }
 const SamplerOptions& Sampler::options() const { return impl_->s.options; }
@@ -453,6 +480,7 @@ bool Drive(Sampler& sampler, SamplerSummary* summary, const SamplerCallbacks& ca
     const Progress progress = sampler.Step();
     if (!callbacks.on_frame) continue;
     const FrameRequest request = callbacks.on_frame(progress);
+    if (request.finish_sampling) sampler.FinishSampling();
     if (request.checkpoint && callbacks.on_checkpoint) callbacks.on_checkpoint(sampler.Checkpoint());
     stopped = request.stop;
   }

@@ -83,7 +83,11 @@ struct Progress {
   int64_t frame = 0;           // frames done (≈ calls of Evaluate)
   int64_t evaluations = 0;     // hypotheses scored
   int iteration = 0;           // sampling iterations done
-  int iterations = 0;          // planned
+  int iterations = 0;          // planned (with until_converged: the schedule's, at least)
+  bool until_converged = false;
+  // Largest rank-normalised split-R̂ and smallest bulk-ESS over the parameters at the last
+  // check (every convergence_interval iterations after the burn-in; NaN before).
+  double max_rhat = 0.0, min_ess = 0.0;
   int refine_step = 0;         // refinement steps done
   int level = 0;
   double temperature = 1.0;    // of the coldest replicas
@@ -126,6 +130,11 @@ struct SamplerSummary {
 
   int iterations = 0;  // sampling iterations done
   int burn_in = 0;
+  // What ended the sampling: "iterations" (the fixed count), "converged" (R̂ and ESS met
+  // their targets), "max_iterations", "time_limit" (FrameRequest::finish_sampling); empty
+  // while it runs.
+  std::string ended_by;
+  double max_rhat = 0.0, min_ess = 0.0;  // Progress's, at the end of sampling
   int refine_steps = 0;
   int64_t frames = 0, evaluations = 0;
 
@@ -163,6 +172,9 @@ class Sampler {
   // One frame (see above). Throws std::logic_error when done().
   Progress Step();
   Progress progress() const;
+  // Ends the sampling at the end of this iteration as FrameRequest::finish_sampling says;
+  // whether it did (false before the burn-in ends or after sampling).
+  bool FinishSampling();
 
   // The whole state as JSON, between frames.
   nlohmann::json Checkpoint() const;
@@ -181,6 +193,9 @@ class Sampler {
 struct FrameRequest {
   bool checkpoint = false;  // pass Checkpoint() to on_checkpoint now
   bool stop = false;        // stop after this frame (summary.termination = Stopped)
+  // End the sampling now and go on to the refinement (a time limit): taken at the next
+  // sampling frame, ignored before the burn-in ends (settling and exploration must finish).
+  bool finish_sampling = false;
 };
 struct SamplerCallbacks {
   std::function<FrameRequest(const Progress&)> on_frame;

@@ -18,6 +18,11 @@ bool OptionsFail(std::string* why, const std::string& message) {
 template <class Options, class F>
 void ForEachField(Options& o, F&& f) {
   f("iterations", o.iterations);
+  f("until_converged", o.until_converged);
+  f("target_rhat", o.target_rhat);
+  f("target_ess", o.target_ess);
+  f("max_iterations", o.max_iterations);
+  f("convergence_interval", o.convergence_interval);
   f("chains", o.chains);
   f("temperatures", o.temperatures);
   f("temperature_ratio", o.temperature_ratio);
@@ -72,6 +77,10 @@ bool SamplerOptions::IsValid(std::string* why) const {
   const auto fraction = [](double f) { return std::isfinite(f) && f >= 0.0 && f < 1.0; };
   if (iterations < 1) return OptionsFail(why, "iterations must be ≥ 1");
   if (chains < 1) return OptionsFail(why, "chains must be ≥ 1");
+  if (!(std::isfinite(target_rhat) && target_rhat > 1.0)) return OptionsFail(why, "target_rhat must be > 1");
+  if (!(std::isfinite(target_ess) && target_ess > 0.0)) return OptionsFail(why, "target_ess must be > 0");
+  if (max_iterations < iterations) return OptionsFail(why, "max_iterations must be ≥ iterations");
+  if (convergence_interval < 1) return OptionsFail(why, "convergence_interval must be ≥ 1");
   if (temperatures < 1) return OptionsFail(why, "temperatures must be ≥ 1");
   if (temperatures > 1 && !(std::isfinite(temperature_ratio) && temperature_ratio > 1.0))
     return OptionsFail(why, "temperature_ratio must be > 1 when temperatures > 1");

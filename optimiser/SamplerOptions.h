@@ -36,7 +36,19 @@ bool FromString(const std::string& text, AnnealSchedule* schedule);
 
 struct SamplerOptions {
   // Metropolis–Hastings iterations; every frame advances every replica of every chain by one.
+  // With `until_converged` they only lay out the schedule above (exploration, settling,
+  // burn-in), and sampling goes on past them until the chains have converged.
   int iterations = 4000;
+  // Convergence-driven length (Vehtari et al. 2021): once `iterations` are done, every
+  // `convergence_interval` iterations the post-burn-in draws are checked, and sampling ends
+  // when every parameter has rank-normalised split-R̂ ≤ target_rhat and bulk-ESS ≥
+  // target_ess, or at max_iterations. A caller's time limit ends it too
+  // (FrameRequest::finish_sampling).
+  bool until_converged = false;
+  double target_rhat = 1.01;
+  double target_ess = 400.0;
+  int max_iterations = 200000;
+  int convergence_interval = 50;
   // Independent chains. R̂ compares them, so use several (≥ 2) when the statistics matter.
   int chains = 4;
 

@@ -81,6 +81,11 @@ struct State {
   std::vector<ChainState> chains;
   Best best;
   double sampling_best = -kInf;  // best log posterior when sampling ended
+  // What ended the sampling (EndedBy; "" while it runs) and the convergence measured last:
+  // the largest rank-normalised split-R̂ and the smallest bulk-ESS over the parameters
+  // (NaN before the first check).
+  std::string ended_by;
+  double max_rhat = kNaN, min_ess = kNaN;
   RefineState refine;
   // Settling (SamplerOptions::settle): rounds done; the target's calibration (null: none);
   // the Laplace covariance at the last mode (empty before settling or without it).
@@ -100,6 +105,9 @@ struct State {
   // Records an evaluated hypothesis as the best so far at the current level if it is.
   void ConsiderBest(const std::vector<double>& psi, double log_prior, double log_likelihood);
 };
+
+// Summary.cpp: max_rhat and min_ess from the post-burn-in draws so far.
+void MeasureConvergence(State& state);
 
 // A fresh state: starting points (with jitter) and RNG streams; nothing evaluated yet.
 State InitialState(const SamplerOptions& options, const std::vector<ParameterSpec>& parameters,

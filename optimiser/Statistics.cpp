@@ -29,6 +29,58 @@ double Variance(const double* x, size_t n) {
   return ss / double(n - 1);
 }
 
+// Φ⁻¹(p) for p in (0, 1): Acklam's rational approximation (relative error 1e-9), then one
+// Halley step on erfc, which takes it to double precision.
+double InverseNormalCdf(double p) {
+  static const double a[] = {-3.969683028665376e+01, 2.209460984245205e+02, -2.759285104469687e+02,
+                             1.383577518672690e+02,  -3.066479806614716e+01, 2.506628277459239e+00};
+  static const double b[] = {-5.447609879822406e+01, 1.615858368580409e+02, -1.556989798598866e+02,
+                             6.680131188771972e+01,  -1.328068155288572e+01};
+  static const double c[] = {-7.784894002430293e-03, -3.223964580411365e-01, -2.400758277161838e+00,
+                             -2.549732539343734e+00, 4.374664141464968e+00,  2.938163982698783e+00};
+  static const double d[] = {7.784695709041462e-03, 3.224671290700398e-01, 2.445134137142996e+00,
+                             3.754408661907416e+00};
+  constexpr double kLow = 0.02425;
+  double x;
+  if (p < kLow) {
+    const double q = std::sqrt(-2 * std::log(p));
+    x = (((((c[0] * q + c[1]) * q + c[2]) * q + c[3]) * q + c[4]) * q + c[5]) /
+        ((((d[0] * q + d[1]) * q + d[2]) * q + d[3]) * q + 1);
+  } else if (p <= 1 - kLow) {
+    const double q = p - 0.5, r = q * q;
+    x = (((((a[0] * r + a[1]) * r + a[2]) * r + a[3]) * r + a[4]) * r + a[5]) * q /
+        (((((b[0] * r + b[1]) * r + b[2]) * r + b[3]) * r + b[4]) * r + 1);
+  } else {
+    const double q = std::sqrt(-2 * std::log(1 - p));
+    x = -(((((c[0] * q + c[1]) * q + c[2]) * q + c[3]) * q + c[4]) * q + c[5]) /
+        ((((d[0] * q + d[1]) * q + d[2]) * q + d[3]) * q + 1);
+  }
+  const double e = 0.5 * std::erfc(-x / std::sqrt(2.0)) - p;
+  const double u = e * std::sqrt(2 * M_PI) * std::exp(x * x / 2);
+  return x - u / (1 + x * u / 2);
+}
+
+// The normal scores of the pooled ranks (ties get their average rank), chain by chain.
+std::vector<std::vector<double>> RankNormalize(const std::vector<std::vector<double>>& chains) {
+  const size_t n = CommonLength(chains);
+  const size_t total = n * chains.size();
+  std::vector<std::pair<double, size_t>> pooled;
+  pooled.reserve(total);
+  for (size_t m = 0; m < chains.size(); ++m)
+    for (size_t i = 0; i < n; ++i) pooled.emplace_back(chains[m][i], m * n + i);
+  std::sort(pooled.begin(), pooled.end());
+  std::vector<std::vector<double>> z(chains.size(), std::vector<double>(n));
+  for (size_t first = 0; first < total;) {
+    size_t last = first;
+    while (last + 1 < total && pooled[last + 1].first == pooled[first].first) ++last;
+    const double rank = 0.5 * double(first + last) + 1.0;  // 1-based, averaged over ties
+    const double score = InverseNormalCdf((rank - 0.375) / (double(total) + 0.25));
+    for (size_t k = first; k <= last; ++k) z[pooled[k].second / n][pooled[k].second % n] = score;
+    first = last + 1;
+  }
+  return z;
+}
+
 }  // namespace
 
 double Mean(const std::vector<double>& values) {
@@ -132,6 +184,32 @@ double EffectiveSampleSize(const std::vector<std::vector<double>>& chains) {
   for (size_t k = 0; k < max_s; ++k) tau += 2.0 * r[k];
   const double total = double(m * n);
   return std::min(total / tau, total * std::log10(total));
+}
+
+double RankNormalizedSplitRhat(const std::vector<std::vector<double>>& chains) {
+  if (CommonLength(chains) < 4) return kUndefined;
+  std::vector<double> all;
+  for (const auto& c : chains) all.insert(all.end(), c.begin(), c.end());
+  const double median = Quantile(all, 0.5);
+  std::vector<std::vector<double>> folded = chains;
+  for (auto& c : folded)
+    for (double& x : c) x = std::abs(x - median);
+  const double bulk = SplitRhat(RankNormalize(chains));
+  const double tail = SplitRhat(RankNormalize(folded));
+  if (std::isnan(bulk) || std::isnan(tail)) return std::isnan(bulk) ? tail : bulk;
+  return std::max(bulk, tail);
+}
+
+double BulkEffectiveSampleSize(const std::vector<std::vector<double>>& chains) {
+  const size_t n = CommonLength(chains);
+  if (n < 8) return kUndefined;
+  const size_t half = n / 2;
+  std::vector<std::vector<double>> split;
+  for (const auto& c : RankNormalize(chains)) {
+    split.emplace_back(c.begin(), c.begin() + long(half));
+    split.emplace_back(c.end() - long(half), c.end());  // odd n: the middle draw left out
+  }
+  return EffectiveSampleSize(split);
 }
 
 }  // namespace vkr::opt

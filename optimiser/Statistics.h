@@ -31,4 +31,18 @@ double SplitRhat(const std::vector<std::vector<double>>& chains);
 // NaN for fewer than 4 draws per chain or zero variance.
 double EffectiveSampleSize(const std::vector<std::vector<double>>& chains);
 
+// Rank-normalised split-R̂ (Vehtari, Gelman, Simpson, Carpenter & Bürkner 2021): the draws
+// of all chains are replaced by the normal scores of their pooled ranks, z = Φ⁻¹((r − 3/8)/
+// (S + 1/4)), so heavy tails and a chain stuck far out cannot hide behind or inflate a
+// variance; R̂ is the larger of SplitRhat on those scores (bulk) and on the scores of the
+// draws' distance from the pooled median (folded: chains with different spreads). The
+// paper's threshold for "converged" is 1.01. NaN as SplitRhat.
+double RankNormalizedSplitRhat(const std::vector<std::vector<double>>& chains);
+
+// Bulk effective sample size (ibid.): EffectiveSampleSize of the rank-normalised draws with
+// every chain split in halves, so a trend within a chain lowers it. The paper asks for at
+// least 100 per chain (400 for four chains) before trusting R̂ or a quantile. NaN as
+// EffectiveSampleSize.
+double BulkEffectiveSampleSize(const std::vector<std::vector<double>>& chains);
+
 }  // namespace vkr::opt

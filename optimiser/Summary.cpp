@@ -49,10 +49,26 @@ std::vector<std::vector<std::vector<double>>> PosteriorDraws(const State& s) {
   return draws;
 }
 
+void MeasureConvergence(State& s) {
+  s.max_rhat = s.min_ess = kNaN;
+  bool undefined = false;
+  for (const auto& chains : PosteriorDraws(s)) {
+    const double rhat = RankNormalizedSplitRhat(chains), ess = BulkEffectiveSampleSize(chains);
+    // An undefined statistic (too few draws, a chain that never moved) is not convergence.
+    if (std::isnan(rhat) || std::isnan(ess)) undefined = true;
+    if (!std::isnan(rhat) && !(rhat <= s.max_rhat)) s.max_rhat = rhat;
+    if (!std::isnan(ess) && !(ess >= s.min_ess)) s.min_ess = ess;
+  }
+  if (undefined) s.max_rhat = kInf;
+}
+
 SamplerSummary Summarise(const State& s) {
   SamplerSummary out;
   out.iterations = s.iteration;
   out.burn_in = s.options.BurnIn();
+  out.ended_by = s.ended_by;
+  out.max_rhat = s.max_rhat;
+  out.min_ess = s.min_ess;
   out.refine_steps = s.refine.step;
   out.frames = s.frame;
   out.evaluations = s.evaluations;
@@ -92,8 +108,8 @@ SamplerSummary Summarise(const State& s) {
     p.sd = StandardDeviation(pooled);
     p.q025 = Quantile(pooled, 0.025);
     p.q975 = Quantile(pooled, 0.975);
-    p.ess = EffectiveSampleSize(draws[size_t(i)]);
-    p.rhat = SplitRhat(draws[size_t(i)]);
+    p.ess = BulkEffectiveSampleSize(draws[size_t(i)]);
+    p.rhat = RankNormalizedSplitRhat(draws[size_t(i)]);
     p.laplace_sd = s.laplace.rows() == s.dimension() ? std::sqrt(s.laplace(i, i)) : kNaN;
     out.parameters.push_back(p);
   }
@@ -204,6 +220,8 @@ nlohmann::json MapJson(const SamplerSummary& s) {
           {"message", s.message},
           {"iterations", s.iterations},
           {"burn_in", s.burn_in},
+          {"sampling",
+           {{"ended_by", s.ended_by}, {"max_rhat", Nullable(s.max_rhat)}, {"min_ess", Nullable(s.min_ess)}}},
           {"refine_steps", s.refine_steps},
           {"frames", s.frames},
           {"evaluations", s.evaluations}};

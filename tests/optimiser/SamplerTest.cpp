@@ -130,6 +130,73 @@ double FractionInHighMode(const SamplerSummary& s) {
   return double(high) / n;
 }
 
+SamplerOptions ConvergenceOptions() {
+  SamplerOptions o;
+  o.iterations = 400;  // the schedule only
+  o.until_converged = true;
+  o.chains = 4;
+  o.temperatures = 2;
+  o.burn_in_fraction = 0.3;
+  o.anneal_fraction = 0.1;
+  o.coarse_levels = 1;
+  o.refine_steps = 0;
+  o.seed = 9;
+  return o;
+}
+
+// iterations "auto": sampling goes on until every R̂ ≤ 1.01 and bulk-ESS ≥ 400 (checked
+// every convergence_interval iterations), and no longer; max_iterations and a caller's
+// time limit end it too, and the summary says which.
+TEST(Sampler, UntilConvergedStopsWhenRhatAndEssMeetTheirTargets) {
+  const CorrelatedGaussian g;
+  const Gaussian log_density(g.mu, g.Covariance());
+  FunctionTarget target([&](const std::vector<double>& x, int) { return log_density(x); }, 16);
+  const SamplerOptions o = ConvergenceOptions();
+  SamplerSummary s;
+  ASSERT_TRUE(opt::Run(o, g.Parameters(), target, &s)) << s.message;
+  EXPECT_EQ(s.ended_by, "converged");
+  EXPECT_GT(s.iterations, o.iterations);  // 400 alone leave ESS < 400
+  EXPECT_EQ((s.iterations - s.burn_in) % o.convergence_interval, 0);
+  EXPECT_LE(s.max_rhat, 1.01);
+  EXPECT_GE(s.min_ess, 400.0);
+  for (const ParameterSummary& p : s.parameters) {
+    EXPECT_LE(p.rhat, 1.01) << p.name;
+    EXPECT_GE(p.ess, 400.0) << p.name;
+  }
+  EXPECT_EQ(MapJson(s)["sampling"]["ended_by"], "converged");
+
+  // One check earlier the targets were not met (otherwise it would have stopped there).
+  SamplerOptions shorter = o;
+  shorter.until_converged = false;
+  shorter.iterations = s.iterations - o.convergence_interval;
+  SamplerSummary t;
+  ASSERT_TRUE(opt::Run(shorter, g.Parameters(), target, &t)) << t.message;
+  EXPECT_EQ(t.ended_by, "iterations");
+  if (t.iterations > o.iterations) EXPECT_TRUE(t.max_rhat > 1.01 || t.min_ess < 400.0);
+
+  SamplerOptions capped = o;
+  capped.target_ess = 1e9;
+  capped.max_iterations = 700;
+  SamplerSummary m;
+  ASSERT_TRUE(opt::Run(capped, g.Parameters(), target, &m)) << m.message;
+  EXPECT_EQ(m.ended_by, "max_iterations");
+  EXPECT_EQ(m.iterations, 700);
+
+  // A time limit: the caller asks from iteration 10 on; it takes once the burn-in is over.
+  SamplerOptions endless = o;
+  endless.target_ess = 1e9;
+  SamplerSummary l;
+  SamplerCallbacks callbacks;
+  callbacks.on_frame = [](const Progress& p) {
+    FrameRequest r;
+    r.finish_sampling = p.iteration >= 10;
+    return r;
+  };
+  ASSERT_TRUE(opt::Run(endless, g.Parameters(), target, &l, callbacks)) << l.message;
+  EXPECT_EQ(l.ended_by, "time_limit");
+  EXPECT_EQ(l.iterations, l.burn_in + 1);
+}
+
 TEST(Sampler, ReplicaExchangeFindsTheHigherMode) {
   for (uint64_t seed : {1, 2}) {
     SCOPED_TRACE(seed);

@@ -87,5 +87,47 @@ TEST(Statistics, UndefinedCasesAreNaNAndMisuseThrows) {
   EXPECT_THROW(EffectiveSampleSize({{1, 2, 3, 4}, {1, 2, 3}}), std::invalid_argument);
 }
 
+// Vehtari et al. (2021): rank normalisation makes R̂ and ESS blind to monotone transforms
+// and able to see what the plain statistics miss — chains with one mean but different
+// spreads (the folded R̂) — while iid chains pass the 1.01 threshold.
+TEST(Statistics, RankNormalizedRhatAndBulkEss) {
+  const auto iid = Iid(4, 2000, 0.0, 11);
+  EXPECT_LT(RankNormalizedSplitRhat(iid), 1.01);
+  EXPECT_NEAR(BulkEffectiveSampleSize(iid), 8000.0, 0.15 * 8000.0);
+
+  // A monotone transform does not change the bulk ESS, and heavy tails do not make R̂ fail
+  // (the folded part depends on the scale, so only the bulk is exactly invariant).
+  auto transformed = iid;
+  for (auto& c : transformed)
+    for (double& x : c) x = std::exp(3.0 * x);
+  EXPECT_DOUBLE_EQ(BulkEffectiveSampleSize(transformed), BulkEffectiveSampleSize(iid));
+  EXPECT_LT(RankNormalizedSplitRhat(transformed), 1.01);
+
+  // One chain with three times the spread: the plain split-R̂ sees nothing, the folded one does.
+  auto wide = iid;
+  for (double& x : wide[0]) x *= 3.0;
+  EXPECT_LT(SplitRhat(wide), 1.02);
+  EXPECT_GT(RankNormalizedSplitRhat(wide), 1.05);
+
+  // One chain elsewhere.
+  auto shifted = iid;
+  for (double& x : shifted[1]) x += 1.0;
+  EXPECT_GT(RankNormalizedSplitRhat(shifted), 1.1);
+
+  // AR(1), φ = 0.9: ESS ≈ n (1 − φ)/(1 + φ).
+  EXPECT_NEAR(BulkEffectiveSampleSize(Ar1(4, 4000, 0.9, 5)), 16000.0 / 19.0, 0.3 * 16000.0 / 19.0);
+
+  // A trend within each chain (the first half lower than the second): splitting sees it.
+  auto trending = iid;
+  for (auto& c : trending)
+    for (size_t k = 0; k < c.size(); ++k) c[k] += k < c.size() / 2 ? -1.0 : 1.0;
+  EXPECT_GT(RankNormalizedSplitRhat(trending), 1.3);
+  EXPECT_LT(BulkEffectiveSampleSize(trending), 0.1 * BulkEffectiveSampleSize(iid));
+
+  // Undefined as the plain statistics: too short, or no variance.
+  EXPECT_TRUE(std::isnan(RankNormalizedSplitRhat({{1, 2, 3}, {1, 2, 3}})));
+  EXPECT_TRUE(std::isnan(BulkEffectiveSampleSize({{1, 1, 1, 1, 1, 1, 1, 1}, {1, 1, 1, 1, 1, 1, 1, 1}})));
+}
+
 }  // namespace
 }  // namespace vkr::opt
