@@ -129,6 +129,17 @@ Diagnosis Diagnose(const Scene& scene, const Evaluation& at_map, double sigma_25
       Worsen(&d, Diagnosis::Verdict::Unsettled);
     }
   }
+  // A convergence-driven run that something else ended: its chains may be fine by the
+  // thresholds above, but not by the ones it was asked to meet.
+  if (summary.ended_by == "time_limit" || summary.ended_by == "max_iterations") {
+    const bool timed = summary.ended_by == "time_limit";
+    other.push_back(std::string("sampling ended at the ") + (timed ? "time limit" : "iteration cap") +
+                    Format(" after %.0f iterations, before every R-hat <= 1.01 and bulk-ESS >= 400 (largest R-hat "
+                           "%.3f, smallest ESS %.0f): raise ",
+                           summary.iterations, summary.max_rhat, summary.min_ess) +
+                    (timed ? "--time-limit (sampler.time_limit)" : "sampler.max_iterations") + " for intervals to trust");
+    Worsen(&d, Diagnosis::Verdict::Unsettled);
+  }
   const nlohmann::json& calibration = summary.calibration;
   if (calibration.is_object() && calibration.contains("kappa_min") && calibration["kappa_min"].is_number()) {
     const double kappa_min = calibration["kappa_min"].get<double>();

@@ -16,6 +16,7 @@
 #include <sstream>
 
 #include "engine/common/InputError.h"
+#include "engine/geometry/AtlasFootprint.h"
 #include "engine/geometry/SceneGeometry.h"
 #include "optimiser/Sampler.h"
 #include "pipelines/likelihood/LikelihoodTool.h"
@@ -158,20 +159,29 @@ class ProgressBar {
   explicit ProgressBar(bool quiet) : quiet_(quiet), tty_(isatty(2)), start_(Clock::now()) {}
   void Update(const opt::Progress& p) {
     if (quiet_) return;
-    const double done = p.iterations > 0 ? double(p.iteration) / p.iterations : 1.0;
+    // With "auto" iterations the schedule's count is a lower bound: the bar fills over it,
+    // then the line shows how far R̂ and ESS are from their targets instead of an ETA.
+    const double done = p.iterations > 0 ? std::min(1.0, double(p.iteration) / p.iterations) : 1.0;
     const auto now = Clock::now();
     const int decile = int(done * 10);
-    if (tty_ ? now - last_ < std::chrono::milliseconds(200) : decile == last_decile_) return;
+    if (tty_ ? now - last_ < std::chrono::milliseconds(200)
+             : decile == last_decile_ && now - last_ < std::chrono::seconds(30))
+      return;
     last_ = now;
     last_decile_ = decile;
     const double elapsed = std::chrono::duration<double>(now - start_).count();
     const double eta = done > 0.01 ? elapsed * (1 - done) / done : NAN;
     const int width = 24, filled = int(done * width);
-    char line[256];
-    std::snprintf(line, sizeof line, "[%s%s] it %d/%d  %-10s level %d  T %.2f  best log post %.1f  acc %.2f  ETA %s",
+    char line[256], tail[96];
+    if (std::isnan(p.max_rhat))
+      std::snprintf(tail, sizeof tail, "ETA %s", p.until_converged && done >= 1.0 ? "?" : Duration(eta).c_str());
+    else
+      std::snprintf(tail, sizeof tail, "R-hat %.3f  ESS %.0f%s", p.max_rhat, p.min_ess,
+                    p.until_converged ? " (until 1.01, 400)" : "");
+    std::snprintf(line, sizeof line, "[%s%s] it %d/%s  %-10s level %d  T %.2f  best log post %.1f  acc %.2f  %s",
                   std::string(filled, '#').c_str(), std::string(width - filled, ' ').c_str(), p.iteration,
-                  p.iterations, opt::ToString(p.phase), p.level, p.temperature, p.best_log_posterior, p.acceptance,
-                  Duration(eta).c_str());
+                  p.until_converged ? "auto" : std::to_string(p.iterations).c_str(), opt::ToString(p.phase), p.level,
+                  p.temperature, p.best_log_posterior, p.acceptance, tail);
     std::cerr << (tty_ ? "\r" : "") << line << (tty_ ? "" : "\n") << std::flush;
   }
   void Finish() {
@@ -232,7 +242,11 @@ double SigmaUsed(const Scene& scene, const opt::SamplerSummary& s) {
 void RequestStop() { g_stop = true; }
 
 ReconstructResult Reconstruct(const ReconstructOptions& options, vk::Device& device) {
-  const Scene scene = LoadScene(options.scene_file, options.overrides);
+  const Scene scene = [&] {
+    Scene loaded = LoadScene(options.scene_file, options.overrides);
+    ResolveAutoLikelihood(loaded);  // atlas and levels "auto": map.json reports what was used
+    return loaded;
+  }();
   if (scene.parameters.empty())
     throw InputError(scene.file.string(), "parameters", "nothing to reconstruct: the scene declares no parameter");
   const fs::path checkpoint_file = options.output_dir / "checkpoint.json";
@@ -260,6 +274,8 @@ ReconstructResult Reconstruct(const ReconstructOptions& options, vk::Device& dev
       throw InputError(scene.file.string(), why.rfind("sampler.", 0) == 0 ? "" : "sampler", why);
   }
   sampler_options.iterations = scene.sampler.iterations;
+  sampler_options.until_converged = scene.sampler.iterations_auto;
+  sampler_options.max_iterations = std::max(sampler_options.max_iterations, sampler_options.iterations);
   sampler_options.chains = scene.sampler.chains;
   sampler_options.seed = scene.sampler.seed;
   if (options.temperatures > 0) sampler_options.temperatures = options.temperatures;
@@ -301,10 +317,22 @@ ReconstructResult Reconstruct(const ReconstructOptions& options, vk::Device& dev
 
   ProgressBar bar(options.quiet);
   auto last_checkpoint = Clock::now();
+  // Per invocation: a resumed run gets the whole limit again.
+  const double time_limit = options.time_limit >= 0.0 ? options.time_limit : scene.sampler.TimeLimit();
+  const auto sampling_start = Clock::now();
+  bool said_time_limit = false;
   opt::SamplerCallbacks callbacks;
   callbacks.on_frame = [&](const opt::Progress& p) {
     bar.Update(p);
     opt::FrameRequest r;
+    if (time_limit > 0.0 && p.phase == opt::Phase::Sampling &&
+        Clock::now() - sampling_start > std::chrono::duration<double>(time_limit)) {
+      r.finish_sampling = true;
+      if (!said_time_limit && !options.quiet)
+        std::cerr << "\nvkrecon run: the time limit (" << Duration(time_limit)
+                  << ") is up: sampling ends once the burn-in is over\n";
+      said_time_limit = true;
+    }
     r.stop = g_stop.load();
     r.checkpoint = r.stop || Clock::now() - last_checkpoint > std::chrono::duration<double>(options.checkpoint_seconds);
     return r;
@@ -396,7 +424,8 @@ ReconstructResult Reconstruct(const ReconstructOptions& options, vk::Device& dev
                                      {"levels", scene.likelihood.levels},
                                      {"photometric", scene.likelihood.photometric},
                                      {"clutter", scene.likelihood.clutter}}},
-                     {"sampler", opt::ToJson(sampler_options)}};
+                     {"sampler", opt::ToJson(sampler_options)},
+                     {"time_limit", time_limit}};
   for (const SceneOverride& o : options.overrides) map["settings"]["overrides"].push_back(o.path + "=" + o.value);
   map["diagnosis"] = diagnosis.json;
   scene.WriteValues(options.output_dir / "at_map.json", summary.map);  // for render --at

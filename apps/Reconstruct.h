@@ -20,6 +20,7 @@ struct ReconstructOptions {
   bool quiet = false;              // no progress bar
   double checkpoint_seconds = 5.0; // how often the state is saved
   int temperatures = 0;            // replicas per chain; 0: sampler.batch / sampler.chains
+  double time_limit = -1.0;        // seconds of sampling (0: none); below 0: sampler.time_limit
 };
 
 struct ReconstructResult {

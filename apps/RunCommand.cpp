@@ -16,7 +16,9 @@ int RunRun(int argc, char** argv) {
       "reprojections/. The state is saved every few seconds: an interrupted run continues with "
       "--resume. map.json's diagnosis is ok only when the residuals look like noise on every node and "
       "photograph and the chains agree; otherwise it names what disagrees (also on stderr). Exit 1 when "
-      "the fit does not explain the images at all; sampler options go in the "
+      "the fit does not explain the images at all. By default (sampler.iterations \"auto\") sampling goes "
+      "on until every parameter's rank-normalised R-hat <= 1.01 and bulk-ESS >= 400, or the time limit; "
+      "the progress line shows both. Sampler options go in the "
       "scene's \"sampler\" block or --set sampler.NAME=VALUE (optimiser/SamplerOptions.h).",
       "run");
   SceneArgs scene;
@@ -27,6 +29,10 @@ int RunRun(int argc, char** argv) {
   app.add_flag("--resume", options.resume, "continue the run saved in OUT/checkpoint.json (none there: start the run, with a warning)");
   app.add_flag("-q,--quiet", options.quiet, "no progress bar");
   app.add_option("--checkpoint-seconds", options.checkpoint_seconds, "seconds between checkpoints (default 5)");
+  app.add_option("--time-limit", options.time_limit,
+                 "seconds the sampling may take before it ends where it is (0: none; default sampler.time_limit: "
+                 "240 with iterations \"auto\", none with a fixed count); the refinement and outputs follow")
+      ->check(CLI::Range(0.0, 1e9));
   app.add_option("--temperatures", options.temperatures,
                  "tempered replicas per chain (default sampler.batch / sampler.chains)");
   if (auto status = Parse(app, argc, argv)) return *status;

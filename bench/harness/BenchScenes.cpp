@@ -7,6 +7,7 @@
 #include <fstream>
 #include <stdexcept>
 
+#include "engine/geometry/AtlasFootprint.h"
 #include "engine/geometry/SceneGeometry.h"
 #include "engine/image/Image.h"
 #include "engine/scene/CameraWriter.h"
@@ -332,6 +333,7 @@ BenchScene PrepareAsset(const fs::path& asset_dir, const fs::path& dir, double s
     overrides.push_back({"cameras", (dir / "cameras_in.json").string()});
     scene = LoadScene(scene_file, overrides, load);
   }
+  ResolveAutoLikelihood(scene);
   BenchScene out;
   out.cameras = int(scene.cameras.size());
   out.atlas = scene.likelihood.atlas;

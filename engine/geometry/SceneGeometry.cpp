@@ -12,17 +12,25 @@
 
 namespace vkr {
 
-SceneGeometry BuildSceneGeometry(const Scene& scene, const std::vector<double>& psi_layout,
-                                 int atlas_size) {
-  SceneGeometry g;
-  g.meshes.reserve(scene.nodes.size());
+std::vector<Mesh> BuildMeshes(const Scene& scene) {
+  std::vector<Mesh> meshes;
+  meshes.reserve(scene.nodes.size());
   for (const Node& node : scene.nodes) {
     switch (node.primitive) {
-      case PrimitiveKind::None: g.meshes.emplace_back(); break;
-      case PrimitiveKind::Mesh: g.meshes.push_back(LoadGltfMesh(node.mesh)); break;
-      default: g.meshes.push_back(MakePrimitive(node.primitive)); break;
+      case PrimitiveKind::None: meshes.emplace_back(); break;
+      case PrimitiveKind::Mesh: meshes.push_back(LoadGltfMesh(node.mesh)); break;
+      default: meshes.push_back(MakePrimitive(node.primitive)); break;
     }
   }
+  return meshes;
+}
+
+SceneGeometry BuildSceneGeometry(const Scene& scene, const std::vector<double>& psi_layout,
+                                 int atlas_size) {
+  if (atlas_size <= 0)  // "auto" must be resolved first (AtlasFootprint.h)
+    throw std::logic_error("BuildSceneGeometry: atlas size " + std::to_string(atlas_size));
+  SceneGeometry g;
+  g.meshes = BuildMeshes(scene);
   const bool drawable = std::any_of(g.meshes.begin(), g.meshes.end(),
                                     [](const Mesh& m) { return m.TriangleCount() > 0; });
   if (!drawable)

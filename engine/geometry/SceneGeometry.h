@@ -29,6 +29,10 @@ struct SceneGeometry {
   std::vector<uint32_t> indices;
 };
 
+// Every node's mesh in its own frame (empty for transform-only nodes). Throws InputError for
+// unreadable meshes.
+std::vector<Mesh> BuildMeshes(const Scene& scene);
+
 // Builds meshes (primitives, glTF files), packs the atlas at Ψ = `psi_layout` (usually the
 // initial values) and flattens. Throws InputError for unreadable meshes.
 SceneGeometry BuildSceneGeometry(const Scene& scene, const std::vector<double>& psi_layout,

@@ -118,12 +118,15 @@ struct Camera {
 struct LikelihoodSettings {
   std::string kind = "surface";  // "surface" | "image"
   double sigma = 8.0;            // noise sd on the 0–255 scale
-  // `"sigma": "auto"` in the scene file: the run estimates σ from the data. `sigma` then
-  // keeps its default, which a consumer that cannot estimate σ may use.
-  bool sigma_auto = false;
+  // `"sigma": "auto"` (the default): the run estimates σ from the data. `sigma` then keeps
+  // its default, which a consumer that cannot estimate σ may use.
+  bool sigma_auto = true;
   std::string weights = "angle"; // "uniform" | "angle"
-  int atlas = 1024;              // atlas side in texels
-  int levels = 3;                // pyramid levels
+  // Atlas side in texels and pyramid levels; 0 = "auto" (the default), sized from the
+  // cameras' footprint of the surface by ResolveAutoLikelihood (engine/geometry/
+  // AtlasFootprint.h), which every command that builds a likelihood calls after loading.
+  int atlas = 0;
+  int levels = 0;
   // Per-camera colour correction of the surface likelihood: "none", "gain" or "affine"
   // (pipelines/model/Photometric.h).
   std::string photometric = "affine";
@@ -132,11 +135,24 @@ struct LikelihoodSettings {
   bool clutter = true;
 };
 
+// sampler.time_limit's default: a run a user starts at a desk ends within minutes on a CPU
+// device (lavapipe), converged or not; the report and the diagnosis say which.
+constexpr double kDefaultTimeLimit = 240.0;
+
 // The most hypotheses one submission may take (sampler.batch; SceneLoader.cpp says why).
 constexpr int kMaxSamplerBatch = 4096;
 
 struct SamplerSettings {
-  int iterations = 4000;
+  // `"iterations": "auto"` (the default): sample until the chains converge (R̂ ≤ 1.01,
+  // bulk-ESS ≥ 400) or time_limit; `iterations` then lays out the exploration and burn-in
+  // only (SamplerOptions::until_converged). A number: exactly that many.
+  bool iterations_auto = true;
+  int iterations = 600;
+  // Seconds the sampling may take before it ends where it is (0 = none; below 0, the
+  // default: kDefaultTimeLimit with "auto" iterations, none with a fixed count). The
+  // refinement and the outputs come after it.
+  double time_limit = -1.0;
+  double TimeLimit() const { return time_limit >= 0.0 ? time_limit : iterations_auto ? kDefaultTimeLimit : 0.0; }
   int chains = 4;
   int batch = 16;
   std::uint64_t seed = 1;

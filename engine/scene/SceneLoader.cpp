@@ -63,6 +63,14 @@ Parameter ReadParameter(const Reader& r, const std::string& name, const Json& j)
   return p;
 }
 
+// A field that takes a word instead of a number: whether `j` is that word; another
+// string fails naming what the field takes.
+bool IsWord(const Reader& r, const Json& j, const std::string& path, const char* word, const char* number) {
+  if (!j.is_string()) return false;
+  if (j.get<std::string>() == word) return true;
+  r.Fail(path, std::string("expected ") + number + " or \"" + word + "\", got '" + j.get<std::string>() + "'");
+}
+
 void ReadLikelihood(const Reader& r, const Json& j, LikelihoodSettings& s) {
   const std::string path = "likelihood";
   r.CheckObject(j, path, {"kind", "sigma", "weights", "atlas", "levels", "photometric", "clutter"});
@@ -75,6 +83,7 @@ void ReadLikelihood(const Reader& r, const Json& j, LikelihoodSettings& s) {
     if (it->is_string() && it->get<std::string>() == "auto") {
       s.sigma_auto = true;
     } else {
+      s.sigma_auto = false;
       s.sigma = r.Number(*it, "likelihood.sigma");
       if (!(s.sigma > 0)) r.Fail("likelihood.sigma", "sigma " + Num(s.sigma) + " must be > 0");
     }
@@ -84,12 +93,16 @@ void ReadLikelihood(const Reader& r, const Json& j, LikelihoodSettings& s) {
     if (s.weights != "uniform" && s.weights != "angle")
       r.Fail("likelihood.weights", "unknown weights '" + s.weights + "' (uniform, angle)");
   }
-  if (auto it = j.find("atlas"); it != j.end()) {
+  if (auto it = j.find("atlas"); it != j.end() && IsWord(r, *it, "likelihood.atlas", "auto", "a power of two")) {
+    s.atlas = 0;
+  } else if (it != j.end()) {
     s.atlas = int(r.Integer(*it, "likelihood.atlas", 64, 8192));
     if (s.atlas & (s.atlas - 1))
       r.Fail("likelihood.atlas", "atlas " + std::to_string(s.atlas) + " is not a power of two");
   }
-  if (auto it = j.find("levels"); it != j.end())
+  if (auto it = j.find("levels"); it != j.end() && IsWord(r, *it, "likelihood.levels", "auto", "an integer"))
+    s.levels = 0;
+  else if (it != j.end())
     s.levels = int(r.Integer(*it, "likelihood.levels", 1, 8));
   if (auto it = j.find("photometric"); it != j.end()) {
     s.photometric = r.String(*it, "likelihood.photometric");
@@ -107,10 +120,21 @@ void ReadSampler(const Reader& r, const Json& j, SamplerSettings& s) {
   // The four every command needs are read here; the sampler's other options (optimiser/
   // SamplerOptions.h) travel as text and are checked by `vkrecon run`, which knows them.
   Json rest = j;
-  for (const char* key : {"iterations", "chains", "batch", "seed"}) rest.erase(key);
+  for (const char* key : {"iterations", "chains", "batch", "seed", "time_limit"}) rest.erase(key);
   s.options_json = rest.dump();
-  if (auto it = j.find("iterations"); it != j.end())
+  if (auto it = j.find("iterations"); it != j.end() && IsWord(r, *it, "sampler.iterations", "auto", "an integer")) {
+    s.iterations_auto = true;
+  } else if (it != j.end()) {
+    s.iterations_auto = false;
     s.iterations = int(r.Integer(*it, "sampler.iterations", 1, INT_MAX));
+  }
+  if (auto it = j.find("time_limit"); it != j.end() && IsWord(r, *it, "sampler.time_limit", "none", "seconds")) {
+    s.time_limit = 0.0;
+  } else if (it != j.end()) {
+    s.time_limit = r.Number(*it, "sampler.time_limit");
+    if (!(s.time_limit > 0.0 && s.time_limit < 1e9))
+      r.Fail("sampler.time_limit", "time limit " + Num(s.time_limit) + " s must be > 0 (or \"none\")");
+  }
   if (auto it = j.find("chains"); it != j.end())
     s.chains = int(r.Integer(*it, "sampler.chains", 1, INT_MAX));
   // A frame proposes chains × temperatures = batch hypotheses in one submission, each with

@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "engine/common/InputError.h"
+#include "engine/geometry/AtlasFootprint.h"
 #include "engine/geometry/SceneGeometry.h"
 #include "engine/image/Pyramid.h"
 #include "engine/vk/Commands.h"
@@ -72,7 +73,7 @@ bool ImageLikelihoodOptions::IsValid(std::string* why) const {
 ImageLikelihoodOptions ImageLikelihoodOptions::FromScene(const Scene& scene) {
   ImageLikelihoodOptions o;
   o.model.sigma = scene.likelihood.sigma;
-  o.levels = scene.likelihood.levels;
+  o.levels = ResolvedLikelihood(scene).levels;
   o.max_batch = scene.sampler.batch;
   return o;
 }

@@ -11,6 +11,7 @@
 #include <limits>
 #include <system_error>
 
+#include "engine/geometry/AtlasFootprint.h"
 #include "engine/common/InputError.h"
 #include "engine/image/ChiSquareRamp.h"
 #include "engine/image/LinePlot.h"
@@ -124,6 +125,7 @@ struct Session {
 Session Open(const LikelihoodToolOptions& options) {
   Session s;
   s.scene = LoadScene(options.scene_file, options.overrides);
+  ResolveAutoLikelihood(s.scene);
   s.at = s.scene.ValuesFromFile(options.at_file);
   const int levels = s.scene.likelihood.levels;
   if (options.level < 0 || options.level >= levels)

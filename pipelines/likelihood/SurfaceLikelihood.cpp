@@ -5,6 +5,7 @@
 #include <stdexcept>
 
 #include "engine/common/InputError.h"
+#include "engine/geometry/AtlasFootprint.h"
 #include "engine/geometry/SceneGeometry.h"
 #include "engine/image/Pyramid.h"
 #include "engine/vk/Commands.h"
@@ -51,8 +52,9 @@ SurfaceLikelihoodOptions SurfaceLikelihoodOptions::FromScene(const Scene& scene)
     throw InputError(scene.file.string(), "likelihood.weights", "must be uniform or angle");
   if (!FromString(scene.likelihood.photometric, &o.photometric))
     throw InputError(scene.file.string(), "likelihood.photometric", "must be none, gain or affine");
-  o.atlas = scene.likelihood.atlas;
-  o.levels = scene.likelihood.levels;
+  const LikelihoodSettings resolved = ResolvedLikelihood(scene);
+  o.atlas = resolved.atlas;
+  o.levels = resolved.levels;
   o.max_batch = scene.sampler.batch;
   return o;
 }

@@ -277,6 +277,18 @@ TEST(BadInput, VersionAndSettings) {
   EXPECT_TRUE(LoadFails(dir, scene, {"sampler.iterations", "integer"}));
   scene["sampler"] = Json{{"seed", -1}};
   EXPECT_TRUE(LoadFails(dir, scene, {"sampler.seed"}));
+  scene["sampler"] = Json{{"iterations", "forever"}};
+  EXPECT_TRUE(LoadFails(dir, scene, {"sampler.iterations", "\"auto\"", "'forever'"}));
+  scene["sampler"] = Json{{"time_limit", -5}};
+  EXPECT_TRUE(LoadFails(dir, scene, {"sampler.time_limit", "must be > 0"}));
+  scene["sampler"] = Json{{"time_limit", "later"}};
+  EXPECT_TRUE(LoadFails(dir, scene, {"sampler.time_limit", "\"none\""}));
+  scene.erase("sampler");
+  scene["likelihood"] = Json{{"atlas", "big"}};
+  EXPECT_TRUE(LoadFails(dir, scene, {"likelihood.atlas", "power of two", "\"auto\""}));
+  scene["likelihood"] = Json{{"levels", "many"}};
+  EXPECT_TRUE(LoadFails(dir, scene, {"likelihood.levels", "\"auto\""}));
+  scene.erase("likelihood");
 }
 
 TEST(BadInput, TransformSyntax) {

@@ -85,9 +85,15 @@ TEST(Load, DefaultsForMissingSections) {
   EXPECT_EQ(s.likelihood.weights, l.weights);
   EXPECT_EQ(s.likelihood.atlas, l.atlas);
   EXPECT_EQ(s.likelihood.levels, l.levels);
-  EXPECT_FALSE(s.likelihood.sigma_auto);
+  // The defaults a scene without settings gets (docs/SCENE_FORMAT.md): σ, atlas, levels and
+  // the length all decided from the data.
+  EXPECT_TRUE(s.likelihood.sigma_auto);
+  EXPECT_EQ(s.likelihood.atlas, 0);
+  EXPECT_EQ(s.likelihood.levels, 0);
   const SamplerSettings d;
   EXPECT_EQ(s.sampler.iterations, d.iterations);
+  EXPECT_TRUE(s.sampler.iterations_auto);
+  EXPECT_EQ(s.sampler.TimeLimit(), kDefaultTimeLimit);
   EXPECT_EQ(s.sampler.seed, d.seed);
   EXPECT_EQ(s.expressions().size(), 0);
 }

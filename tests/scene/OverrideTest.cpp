@@ -22,10 +22,23 @@ TEST(Override, SettingsByDottedPath) {
                                    {"likelihood.kind", "image"},
                                    {"sampler.batch", "32"}});
   EXPECT_EQ(s.likelihood.sigma, 4.0);
+  EXPECT_FALSE(s.likelihood.sigma_auto);  // a number replaces the default "auto"
   EXPECT_EQ(s.sampler.seed, 7u);
   EXPECT_EQ(s.likelihood.kind, "image");
   EXPECT_EQ(s.sampler.batch, 32);
-  EXPECT_EQ(s.sampler.iterations, 4000);  // untouched defaults stay
+  EXPECT_TRUE(s.sampler.iterations_auto);  // untouched defaults stay
+  EXPECT_EQ(s.likelihood.atlas, 0);
+
+  // "auto" and numbers for the length and the time limit.
+  const Scene fixed = LoadScene(file, {{"sampler.iterations", "300"}, {"sampler.time_limit", "90"}});
+  EXPECT_FALSE(fixed.sampler.iterations_auto);
+  EXPECT_EQ(fixed.sampler.iterations, 300);
+  EXPECT_EQ(fixed.sampler.TimeLimit(), 90.0);
+  const Scene fixed_unlimited = LoadScene(file, {{"sampler.iterations", "300"}});
+  EXPECT_EQ(fixed_unlimited.sampler.TimeLimit(), 0.0);  // a fixed count runs to its end
+  const Scene unlimited = LoadScene(file, {{"sampler.iterations", "auto"}, {"sampler.time_limit", "none"}});
+  EXPECT_TRUE(unlimited.sampler.iterations_auto);
+  EXPECT_EQ(unlimited.sampler.TimeLimit(), 0.0);
 }
 
 TEST(Override, LaterOverridesWinAndValuesAreValidated) {

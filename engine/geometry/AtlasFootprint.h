@@ -1,0 +1,41 @@
+#pragma once
+// `"atlas": "auto"` and `"levels": "auto"` (docs/SCENE_FORMAT.md, "likelihood"): the atlas
+// is sized from what the cameras see of the surface, so a scene written without settings
+// gets the resolution its photographs support rather than a fixed 1024² that costs hours on
+// a CPU device and holds detail no view resolves.
+//
+// The rule: every face of the scene at its initial values needs as many texels as the
+// pixels it covers in the camera that sees it largest (front-facing, in front of the camera,
+// clipped to the image), divided by kPixelsPerTexel; the atlas side is the power of two
+// nearest to √(that sum / kPackingShare), within [64, 2048]. Levels: as many halvings as
+// keep the coarsest atlas at least 64 texels wide, at most 3.
+
+#include <vector>
+
+#include "engine/geometry/Mesh.h"
+#include "engine/scene/Scene.h"
+
+namespace vkr {
+
+// One texel per 2 × 2 pixels: the bundled assets, reconstructed at 640 × 480 with 256² atlases
+// (docs/NOISE_STUDY.md), land at 256 by this rule. A finer atlas samples the views' own
+// interpolation, a coarser one averages away the edges that locate the surface.
+constexpr double kPixelsPerTexel = 4.0;
+// Share of the atlas the packer fills with charts (Atlas.h adds gutters and shelf waste).
+constexpr double kPackingShare = 0.5;
+constexpr int kMinAutoAtlas = 64, kMaxAutoAtlas = 2048;
+
+// Pixels of the face in the view that sees it largest, summed over faces.
+double SurfaceFootprintPixels(const Scene& scene, const std::vector<Mesh>& meshes);
+
+// The rule above for a footprint of `pixels`.
+int AutoAtlasSide(double pixels);
+int AutoLevels(int atlas_side);
+
+// scene.likelihood with "auto" (0) in atlas and levels replaced by the rule's values. Builds
+// the meshes when the atlas is auto (InputError for unreadable ones).
+LikelihoodSettings ResolvedLikelihood(const Scene& scene);
+// The same in place, for commands that report the settings they ran with.
+void ResolveAutoLikelihood(Scene& scene);
+
+}  // namespace vkr
