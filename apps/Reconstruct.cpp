@@ -274,7 +274,9 @@ ReconstructResult Reconstruct(const ReconstructOptions& options, vk::Device& dev
       throw InputError(scene.file.string(), why.rfind("sampler.", 0) == 0 ? "" : "sampler", why);
   }
   sampler_options.iterations = scene.sampler.iterations;
-  sampler_options.until_converged = scene.sampler.iterations_auto;
+  // "iterations": "auto" is until_converged over the default schedule; a block that sets
+  // until_converged itself lays out its own schedule with the number it gives.
+  sampler_options.until_converged = sampler_options.until_converged || scene.sampler.iterations_auto;
   sampler_options.max_iterations = std::max(sampler_options.max_iterations, sampler_options.iterations);
   sampler_options.chains = scene.sampler.chains;
   sampler_options.seed = scene.sampler.seed;
@@ -434,6 +436,13 @@ ReconstructResult Reconstruct(const ReconstructOptions& options, vk::Device& dev
     csv.imbue(std::locale::classic());
     opt::WriteChainCsv(csv, summary.chain, sampler->parameters());
     WriteAtomically(options.output_dir / "chain.csv", csv.str());
+  }
+  // The posterior draws for ArviZ and other CmdStan-CSV readers (README, "vkrecon run").
+  fs::create_directories(options.output_dir / "chains");
+  for (int c = 0; c < sampler->options().chains; ++c) {
+    std::ostringstream stan;
+    opt::WriteStanCsv(stan, summary, sampler->parameters(), c, sampler->options().seed);
+    WriteAtomically(options.output_dir / "chains" / ("stan-" + std::to_string(c + 1) + ".csv"), stan.str());
   }
   // Last, so that a map.json is the mark of a finished run: a run killed while writing its
   // outputs shows none, and its checkpoint writes them all again on --resume.

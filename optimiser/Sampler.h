@@ -152,6 +152,16 @@ nlohmann::json MapJson(const SamplerSummary& summary);
 void WriteChainCsv(std::ostream& out, const std::vector<Sample>& chain,
                    const std::vector<ParameterSpec>& parameters);
 
+// One chain's posterior draws (its post-burn-in rows of summary.chain) in CmdStan's CSV
+// format, so ArviZ (`az.from_cmdstan`), CmdStan's stansummary-style readers and pandas
+// (`read_csv(comment="#")`) read them: `#` comment lines with the run's configuration
+// (`key = value`: num_samples, num_warmup = 0, thin, chain_id = chain + 1, seed), one
+// header `lp__,accept_stat__,<names…>`, one row per draw. lp__ is the log posterior the
+// chain sampled (after the calibration's κ), accept_stat__ whether the draw's proposal was
+// accepted (Metropolis has no acceptance probability to report instead).
+void WriteStanCsv(std::ostream& out, const SamplerSummary& summary, const std::vector<ParameterSpec>& parameters,
+                  int chain, uint64_t seed);
+
 // Options valid, parameters valid, chains × temperatures ≤ target.max_batch(), levels ≥ 1.
 bool ValidateProblem(const SamplerOptions& options, const std::vector<ParameterSpec>& parameters,
                      const Target& target, std::string* why);

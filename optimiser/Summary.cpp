@@ -245,4 +245,32 @@ void WriteChainCsv(std::ostream& out, const std::vector<Sample>& chain,
   out << o.str();
 }
 
+void WriteStanCsv(std::ostream& out, const SamplerSummary& summary, const std::vector<ParameterSpec>& parameters,
+                  int chain, uint64_t seed) {
+  std::ostringstream o;
+  o.imbue(std::locale::classic());
+  o << std::setprecision(std::numeric_limits<double>::max_digits10);
+  int64_t draws = 0;
+  for (const Sample& row : summary.chain) draws += row.chain == chain && row.iteration >= summary.burn_in;
+  o << "# model = vkrecon\n"
+    << "# method = sample (algorithm = Metropolis-Hastings with replica exchange, vkrecon)\n"
+    << "# num_samples = " << draws << "\n"
+    << "# num_warmup = 0\n"
+    << "# save_warmup = 0\n"
+    << "# thin = 1\n"
+    << "# chain_id = " << chain + 1 << "\n"
+    << "# seed = " << seed << "\n"
+    << "# burn_in_iterations = " << summary.burn_in << "\n"
+    << "lp__,accept_stat__";
+  for (const ParameterSpec& p : parameters) o << "," << p.name;
+  o << "\n";
+  for (const Sample& row : summary.chain) {
+    if (row.chain != chain || row.iteration < summary.burn_in) continue;
+    o << row.log_posterior() << "," << (row.accepted ? 1 : 0);
+    for (double v : row.psi) o << "," << v;
+    o << "\n";
+  }
+  out << o.str();
+}
+
 }  // namespace vkr::opt

@@ -89,6 +89,28 @@ TEST(RunCli, KilledRunResumesToTheSameResult) {
   EXPECT_EQ(a["settings"]["likelihood"]["sigma"], "auto");
   EXPECT_EQ(test::ReadText(dir / "straight/chain.csv"), test::ReadText(out / "chain.csv"));
   for (const char* f : {"composite.exr", "composite.png", "model.glb", "chain.csv"}) EXPECT_TRUE(fs::exists(out / f)) << f;
+  // One CmdStan CSV per chain (its format is tested in optimiser/Sampler.StanCsv…), equal too.
+  for (const char* f : {"chains/stan-1.csv", "chains/stan-2.csv"})
+    EXPECT_EQ(test::ReadText(dir / "straight" / f), test::ReadText(out / f)) << f;
+  EXPECT_FALSE(fs::exists(out / "chains/stan-3.csv"));
+  EXPECT_EQ(a["sampling"]["ended_by"], "iterations");  // a fixed count: no time limit by default
+}
+
+// Convergence-driven length with a time limit that is up at once: sampling ends as soon as
+// the burn-in is over, map.json and the diagnosis say so, and the verdict is not ok.
+TEST(RunCli, ATimeLimitEndsTheSamplingAndTheDiagnosisSaysSo) {
+  test::TempDir dir;
+  ASSERT_TRUE(SynthBoxImages(dir, ""));
+  const fs::path out = dir / "out";
+  const auto r = RunCommand(SmallRun(dir, 40) + " --set sampler.until_converged=true --time-limit 0.001 -o " + Q(out));
+  ASSERT_EQ(r.exit_status, 0) << r.err;
+  const nlohmann::json map = nlohmann::json::parse(test::ReadText(out / "map.json"));
+  EXPECT_EQ(map["sampling"]["ended_by"], "time_limit");
+  EXPECT_EQ(map["iterations"].get<int>(), map["burn_in"].get<int>() + 1);
+  EXPECT_EQ(map["settings"]["time_limit"], 0.001);
+  EXPECT_NE(map["diagnosis"]["verdict"], "ok");  // unsettled at least (40 iterations also leave a model_error)
+  EXPECT_NE(map["diagnosis"].dump().find("ended at the time limit"), std::string::npos) << map["diagnosis"].dump();
+  EXPECT_NE(r.err.find("--time-limit"), std::string::npos) << r.err;
 }
 
 // Issue 13's "kill anywhere": SIGKILL at 20 moments drawn uniformly over an uninterrupted

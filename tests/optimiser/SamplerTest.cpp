@@ -197,6 +197,64 @@ TEST(Sampler, UntilConvergedStopsWhenRhatAndEssMeetTheirTargets) {
   EXPECT_EQ(l.iterations, l.burn_in + 1);
 }
 
+// chains/stan-K.csv read the way ArviZ's from_cmdstan reads CmdStan output: `#` lines are
+// comments, some `key = value` configuration; the first other line names the columns, those
+// ending in "__" being sample statistics; every further line is one draw of numbers.
+TEST(Sampler, StanCsvIsReadAsCmdStanReadersReadIt) {
+  const CorrelatedGaussian g;
+  const Gaussian log_density(g.mu, g.Covariance());
+  FunctionTarget target([&](const std::vector<double>& x, int) { return log_density(x); }, 16);
+  SamplerOptions o = ConvergenceOptions();
+  o.until_converged = false;
+  SamplerSummary s;
+  ASSERT_TRUE(opt::Run(o, g.Parameters(), target, &s)) << s.message;
+  for (int chain = 0; chain < o.chains; ++chain) {
+    SCOPED_TRACE(chain);
+    std::ostringstream out;
+    WriteStanCsv(out, s, g.Parameters(), chain, o.seed);
+    std::istringstream in(out.str());
+    std::map<std::string, std::string> config;
+    std::vector<std::string> columns;
+    std::vector<std::vector<double>> rows;
+    for (std::string line; std::getline(in, line);) {
+      if (line.rfind("#", 0) == 0) {
+        const size_t eq = line.find(" = ");
+        if (eq != std::string::npos) config[line.substr(2, eq - 2)] = line.substr(eq + 3);
+        continue;
+      }
+      std::vector<std::string> cells;
+      std::stringstream cells_in(line);
+      for (std::string cell; std::getline(cells_in, cell, ',');) cells.push_back(cell);
+      if (columns.empty()) {
+        columns = cells;
+        continue;
+      }
+      ASSERT_EQ(cells.size(), columns.size());
+      std::vector<double> row;
+      for (const std::string& cell : cells) {
+        size_t used = 0;
+        row.push_back(std::stod(cell, &used));
+        EXPECT_EQ(used, cell.size()) << cell;
+      }
+      rows.push_back(row);
+    }
+    ASSERT_EQ(columns, (std::vector<std::string>{"lp__", "accept_stat__", "a", "b"}));
+    EXPECT_EQ(config["num_warmup"], "0");
+    EXPECT_EQ(config["chain_id"], std::to_string(chain + 1));
+    ASSERT_EQ(config["num_samples"], std::to_string(rows.size()));
+    ASSERT_EQ(int(rows.size()), s.iterations - s.burn_in);
+    // The draws are the chain's post-burn-in rows of the summary, exactly.
+    size_t k = 0;
+    for (const Sample& row : s.chain) {
+      if (row.chain != chain || row.iteration < s.burn_in) continue;
+      EXPECT_EQ(rows[k][0], row.log_posterior());
+      EXPECT_EQ(rows[k][2], row.psi[0]);
+      EXPECT_EQ(rows[k][3], row.psi[1]);
+      ++k;
+    }
+  }
+}
+
 TEST(Sampler, ReplicaExchangeFindsTheHigherMode) {
   for (uint64_t seed : {1, 2}) {
     SCOPED_TRACE(seed);
