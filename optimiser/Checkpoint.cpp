@@ -217,10 +217,13 @@ State StateFromJson(const json& j) {
     s.best.log_prior = ReadNumber(best.at("log_prior"));
     s.best.log_likelihood = ReadNumber(best.at("log_likelihood"));
     s.sampling_best = ReadNumber(j.at("sampling_best"));
-    const json& convergence = j.at("convergence");
-    s.ended_by = convergence.at("ended_by").get<std::string>();
-    s.max_rhat = ReadNumber(convergence.at("max_rhat"));
-    s.min_ess = ReadNumber(convergence.at("min_ess"));
+    // Absent from checkpoints written before convergence-driven runs: those resume as runs
+    // of a fixed count that has not measured convergence yet.
+    if (const auto it = j.find("convergence"); it != j.end()) {
+      s.ended_by = it->at("ended_by").get<std::string>();
+      s.max_rhat = ReadNumber(it->at("max_rhat"));
+      s.min_ess = ReadNumber(it->at("min_ess"));
+    }
 
     const json& jr = j.at("refine");
     RefineState& r = s.refine;
