@@ -332,7 +332,7 @@ ReconstructResult Reconstruct(const ReconstructOptions& options, vk::Device& dev
       r.finish_sampling = true;
       if (!said_time_limit && !options.quiet)
         std::cerr << "\nvkrecon run: the time limit (" << Duration(time_limit)
-                  << ") is up: sampling ends once the burn-in is over\n";
+                  << ") is up: sampling ends once the burn-in (with iterations \"auto\": the schedule) is over\n";
       said_time_limit = true;
     }
     r.stop = g_stop.load();

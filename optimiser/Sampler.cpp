@@ -463,7 +463,10 @@ Progress Sampler::progress() const { return impl_->MakeProgress(); }
 
 bool Sampler::FinishSampling() {
   detail::State& s = impl_->s;
+  // A convergence-driven run does its schedule first: its exploration and burn-in are what
+  // a fixed count of that length would do, whatever the machine's speed.
   if (s.phase != Phase::Sampling || s.iteration <= s.options.BurnIn()) return false;
+  if (s.options.until_converged && s.iteration < s.options.iterations) return false;
   impl_->EndSampling("time_limit");
   return true;
 }

@@ -204,7 +204,8 @@ struct FrameRequest {
   bool checkpoint = false;  // pass Checkpoint() to on_checkpoint now
   bool stop = false;        // stop after this frame (summary.termination = Stopped)
   // End the sampling now and go on to the refinement (a time limit): taken at the next
-  // sampling frame, ignored before the burn-in ends (settling and exploration must finish).
+  // sampling frame, ignored before the burn-in ends (settling and exploration must finish)
+  // and, with until_converged, before `iterations` are done.
   bool finish_sampling = false;
 };
 struct SamplerCallbacks {

@@ -182,7 +182,8 @@ TEST(Sampler, UntilConvergedStopsWhenRhatAndEssMeetTheirTargets) {
   EXPECT_EQ(m.ended_by, "max_iterations");
   EXPECT_EQ(m.iterations, 700);
 
-  // A time limit: the caller asks from iteration 10 on; it takes once the burn-in is over.
+  // A time limit: the caller asks from iteration 10 on; it takes once the schedule's
+  // iterations are done (with a fixed count: once the burn-in is over).
   SamplerOptions endless = o;
   endless.target_ess = 1e9;
   SamplerSummary l;
@@ -194,7 +195,13 @@ TEST(Sampler, UntilConvergedStopsWhenRhatAndEssMeetTheirTargets) {
   };
   ASSERT_TRUE(opt::Run(endless, g.Parameters(), target, &l, callbacks)) << l.message;
   EXPECT_EQ(l.ended_by, "time_limit");
-  EXPECT_EQ(l.iterations, l.burn_in + 1);
+  EXPECT_EQ(l.iterations, o.iterations);
+  SamplerOptions fixed = o;
+  fixed.until_converged = false;
+  SamplerSummary f;
+  ASSERT_TRUE(opt::Run(fixed, g.Parameters(), target, &f, callbacks)) << f.message;
+  EXPECT_EQ(f.ended_by, "time_limit");
+  EXPECT_EQ(f.iterations, f.burn_in + 1);
 }
 
 // chains/stan-K.csv read the way ArviZ's from_cmdstan reads CmdStan output: `#` lines are
