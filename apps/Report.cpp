@@ -96,6 +96,7 @@ std::string ParameterTable(const json& map, const std::vector<std::string>& name
   for (const std::string& name : order) {
     if (!map["parameters"].contains(name)) continue;
     const json& p = map["parameters"][name];
+    if (!p.is_object()) continue;
     json entry = {{"name", name}, {"map", p.value("map", json())}, {"q025", p.value("q025", json())},
                   {"q975", p.value("q975", json())}, {"prior", nullptr}, {"truth", nullptr}};
     std::string prior = "–";
@@ -108,16 +109,16 @@ std::string ParameterTable(const json& map, const std::vector<std::string>& name
     const json rhat = p.value("rhat", json()), ess = p.value("ess", json());
     const bool bad_rhat = rhat.is_number() && rhat.get<double>() > 1.1;
     const bool low_ess = ess.is_number() && ess.get<double>() < 400.0;
-    h << "<tr><td class=\"name\">" << Html(name) << "</td><td>" << Html(prior) << "</td><td>" << Number(p["map"])
-      << "</td><td>" << Number(p["mean"]) << " ± " << Number(p["sd"], "%.2g") << "</td><td>[" << Number(p["q025"])
-      << ", " << Number(p["q975"]) << "]</td><td" << (bad_rhat ? " class=\"warn\" title=\"R̂ &gt; 1.1: the chains disagree\"" : "")
+    h << "<tr><td class=\"name\">" << Html(name) << "</td><td>" << Html(prior) << "</td><td>" << Number(p.value("map", json()))
+      << "</td><td>" << Number(p.value("mean", json())) << " ± " << Number(p.value("sd", json()), "%.2g") << "</td><td>[" << Number(p.value("q025", json()))
+      << ", " << Number(p.value("q975", json())) << "]</td><td" << (bad_rhat ? " class=\"warn\" title=\"R̂ &gt; 1.1: the chains disagree\"" : "")
       << ">" << Number(rhat, "%.3f") << "</td><td" << (low_ess ? " class=\"warn\" title=\"ESS &lt; 400: few independent draws\"" : "")
       << ">" << Number(ess, "%.0f") << "</td>";
     if (has_truth) {
       const json t = truth.value(name, json());
       entry["truth"] = t;
-      const bool miss = t.is_number() && p["q025"].is_number() && p["q975"].is_number() &&
-                        (t.get<double>() < p["q025"].get<double>() || t.get<double>() > p["q975"].get<double>());
+      const bool miss = t.is_number() && p.value("q025", json()).is_number() && p.value("q975", json()).is_number() &&
+                        (t.get<double>() < p.value("q025", json()).get<double>() || t.get<double>() > p.value("q975", json()).get<double>());
       h << "<td" << (miss ? " class=\"miss\" title=\"the truth lies outside the 95 % interval\"" : "") << ">"
         << Number(t) << "</td>";
     }
@@ -162,7 +163,7 @@ std::string Verdict(const json& map) {
   const json d = map.value("diagnosis", json());
   std::ostringstream h;
   const std::string verdict = d.is_object() ? d.value("verdict", std::string("unknown")) : "unknown";
-  h << "<p class=\"verdict " << (d.value("ok", false) ? "ok" : "bad") << "\">diagnosis: <b>" << Html(verdict)
+  h << "<p class=\"verdict " << (d.is_object() && d.value("ok", false) ? "ok" : "bad") << "\">diagnosis: <b>" << Html(verdict)
     << "</b></p>\n";
   if (d.is_object() && !d.value("notes", json::array()).empty()) {
     h << "<ul class=\"notes\">";
@@ -238,6 +239,8 @@ std::string Images(const fs::path& out, const std::vector<std::string>& cameras,
   }
 }
 
+ReportResult WritePage(const ReportOptions& options);
+
 }  // namespace
 
 fs::path JavascriptDir(const ReportOptions& options) {
@@ -247,6 +250,16 @@ fs::path JavascriptDir(const ReportOptions& options) {
 }
 
 ReportResult WriteReport(const ReportOptions& options) {
+  try {
+    return WritePage(options);
+  } catch (const json::exception& e) {  // a field of the wrong type: the files are not a run's
+    throw InputError((options.output_dir / "map.json").string(), "", std::string("unexpected content: ") + e.what());
+  }
+}
+
+namespace {
+
+ReportResult WritePage(const ReportOptions& options) {
   const fs::path& out = options.output_dir;
   const json map = ReadJson(out / "map.json");
   if (!map.is_object() || !map.contains("parameters") || !map["parameters"].is_object())
@@ -277,15 +290,16 @@ ReportResult WriteReport(const ReportOptions& options) {
     result.left_out.push_back("the 3D view (three.js, its GLTFLoader or OrbitControls under " + js.string() +
                               " is missing: install Debian's libjs-three)");
 
+  const json settings = map.value("settings", json::object());
   json data = {{"parameters", json::array()}, {"burn_in", map.value("burn_in", 0)}, {"chain", std::move(chain)},
                {"ladder", map.value("chains", json::array())}};
   std::ostringstream h;
   h << "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">\n"
        "<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n<title>vkrecon report: "
-    << Html(fs::path(map["settings"].value("scene", std::string("run"))).parent_path().filename().string())
+    << Html(fs::path(settings.value("scene", std::string("run"))).parent_path().filename().string())
     << "</title>\n<script>" << report::ErrorHook() << "</script>\n<style>" << report::PageStyle() << "</style>\n</head><body>\n"
-    << "<h1>vkrecon report</h1>\n<p class=\"meta\">scene " << Html(map["settings"].value("scene", std::string("?")))
-    << "; device " << Html(map["settings"].value("device", std::string("?"))) << "; built from the files in this folder by "
+    << "<h1>vkrecon report</h1>\n<p class=\"meta\">scene " << Html(settings.value("scene", std::string("?")))
+    << "; device " << Html(settings.value("device", std::string("?"))) << "; built from the files in this folder by "
     << "<code>vkrecon report</code> (docs/REPORT.md).</p>\n<ul id=\"report-errors\"></ul>\n";
   if (!result.left_out.empty() || (has_model && !model_fits) || !scene) {
     h << "<div class=\"leftout\"><p>Left out of this page:</p><ul>";
@@ -348,6 +362,8 @@ ReportResult WriteReport(const ReportOptions& options) {
   result.bytes = html.size();
   return result;
 }
+
+}  // namespace
 
 void WriteRunReport(const fs::path& output_dir, const Scene& scene, const SceneGeometry& geometry,
                     const std::vector<double>& psi) {
