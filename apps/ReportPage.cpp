@@ -98,8 +98,16 @@ const char* PageScript() {
   function lineChart(canvas, datasets, title, yOptions, xTitle) {
     return new Chart(canvas, {type: 'line', data: {datasets: datasets},
       options: {parsing: true, plugins: {title: {display: true, text: title}, legend: {labels: {boxWidth: 10}}},
-                scales: {x: {type: 'linear', title: {display: !!xTitle, text: xTitle || ''}}, y: yOptions || {}}}});
+                scales: {x: xTitle === 'iteration' ? {type: 'linear', min: first, max: last, title: {display: true, text: xTitle}}
+                                                   : {type: 'linear', title: {display: !!xTitle, text: xTitle || ''}},
+                         y: yOptions || {}}}});
   }
+  // Every iteration plot spans the whole run, whatever part of it its y range shows.
+  var first = Infinity, last = -Infinity;
+  chains.forEach(function (c) {
+    if (c.iteration.length) { first = Math.min(first, c.iteration[0]); last = Math.max(last, c.iteration[c.iteration.length - 1]); }
+  });
+  if (!isFinite(first)) { first = 0; last = 1; }
   function perChain(key) {
     return chains.map(function (c, i) {
       return {label: 'chain ' + i, data: points(c.iteration, c[key]), borderColor: colours[i % colours.length]};
@@ -114,14 +122,18 @@ const char* PageScript() {
     return out.length > 1 ? out : all;
   }
 
-  // Log posterior: the y range starts at its 5 % quantile, or the first iterations' values flatten the rest.
+  // Log posterior: the y range fits the finest level's values from their 5 % quantile up (the
+  // coarse levels' are on other scales, the first iterations' far below: they would flatten the rest).
   var lp = [];
-  chains.forEach(function (c) { lp = lp.concat(c.log_posterior); });
+  chains.forEach(function (c) {
+    c.log_posterior.forEach(function (v, i) { if (c.level[i] === 0) lp.push(v); });
+  });
+  if (!finite(lp).length) chains.forEach(function (c) { lp = lp.concat(c.log_posterior); });
   var lpLo = quantile(lp, 0.05), lpHi = Math.max.apply(null, finite(lp).concat([lpLo + 1]));
   var pad = 0.05 * (lpHi - lpLo) || 1;
   lineChart(document.getElementById('chart-logpost'),
             perChain('log_posterior').concat([vertical(burn, lpLo - pad, lpHi + pad, '#888', 'burn-in', [4, 4])]),
-            'log posterior (coldest replica)', {min: lpLo - pad, max: lpHi + pad}, 'iteration');
+            'log posterior (coldest replica; y fits level 0)', {min: lpLo - pad, max: lpHi + pad}, 'iteration');
 
   // Acceptance and swap rates, mean over chains, smoothed.
   function meanOverChains(key) {
@@ -148,7 +160,8 @@ const char* PageScript() {
   new Chart(document.getElementById('chart-temperature'), {type: 'line', data: {datasets: temperature},
     options: {plugins: {title: {display: true, text: 'temperature of the coldest replica, and level'},
                         legend: {labels: {boxWidth: 10}}},
-              scales: {x: {type: 'linear', title: {display: true, text: 'iteration'}}, y: {type: 'logarithmic'},
+              scales: {x: {type: 'linear', min: first, max: last, title: {display: true, text: 'iteration'}},
+                       y: {type: 'logarithmic'},
                        level: {position: 'right', min: 0, ticks: {stepSize: 1}, grid: {drawOnChartArea: false}}}}});
 
   // The temperature ladder: each rung's acceptance, and the swap rate between neighbouring rungs.
