@@ -18,7 +18,7 @@ if [ ! -f "$report" ]; then
   exit 2
 fi
 CHROMIUM=${CHROMIUM:-$(command -v chromium || command -v chromium-browser || true)}
-if [ -z "$CHROMIUM" ]; then
+if [ -z "$CHROMIUM" ] || [ ! -x "$CHROMIUM" ]; then
   echo "report_screenshot: skipped: chromium is not installed (scripts/bootstrap.sh report installs it)" >&2
   exit 77
 fi
