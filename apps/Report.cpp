@@ -41,9 +41,9 @@ constexpr Library kThree[] = {{"libjs-three", "three/three.min.js"},
                               {"libjs-three", "three/examples/js/loaders/GLTFLoader.js"},
                               {"libjs-three", "three/examples/js/controls/OrbitControls.js"}};
 
-json ReadJson(const fs::path& file) {
+json ReadJson(const fs::path& file, const char* if_missing) {
   std::ifstream in(file);
-  if (!in) throw InputError(file.string(), "", "missing or unreadable: not the output folder of a finished run");
+  if (!in) throw InputError(file.string(), "", std::string("missing or unreadable: ") + if_missing);
   try {
     return json::parse(in);
   } catch (const json::exception& e) {
@@ -261,12 +261,14 @@ namespace {
 
 ReportResult WritePage(const ReportOptions& options) {
   const fs::path& out = options.output_dir;
-  const json map = ReadJson(out / "map.json");
+  const json map = ReadJson(out / "map.json", "not the output folder of a finished run");
   if (!map.is_object() || !map.contains("parameters") || !map["parameters"].is_object())
     throw InputError((out / "map.json").string(), "parameters", "missing: not a run's map.json");
   json chain = report::ReadChain(out / "chain.csv");
   json truth;
-  if (!options.truth_file.empty()) truth = ReadJson(options.truth_file);
+  if (!options.truth_file.empty()) truth = ReadJson(options.truth_file, "the --truth file");
+  if (!truth.is_null() && !truth.is_object())
+    throw InputError(options.truth_file.string(), "", "not an --at file ({\"name\": value, ...})");
   std::string scene_problem;
   const std::unique_ptr<Scene> scene = RunScene(map, &scene_problem);
 

@@ -33,6 +33,7 @@ void DrawLine(Image& image, Eigen::Vector2d p0, Eigen::Vector2d p1, const std::a
   if (p0.x() > p1.x()) std::swap(p0, p1);
   // Lines far off the image: clamp the sweep to where it could land.
   const double limit = double(steep ? image.height : image.width) + 1.0;
+  const double y_limit = double(steep ? image.width : image.height) + 1.0;
   const double dx = p1.x() - p0.x(), dy = p1.y() - p0.y();
   const double gradient = dx == 0.0 ? 1.0 : dy / dx;
   auto plot = [&](int x, int y, double w) { steep ? Blend(image, y, x, w, colour) : Blend(image, x, y, w, colour); };
@@ -44,6 +45,7 @@ void DrawLine(Image& image, Eigen::Vector2d p0, Eigen::Vector2d p1, const std::a
     if (x == std::round(p1.x())) cover = std::min(cover, Fraction(p1.x() + 0.5));
     if (x_start == x_end) cover = std::max(dx, 0.5);
     const double y = p0.y() + gradient * (x - p0.x());
+    if (!(y > -2.0 && y < y_limit)) continue;  // off the image (and no int overflow far away)
     const int yi = int(std::floor(y));
     plot(int(x), yi, (1.0 - Fraction(y)) * cover);
     plot(int(x), yi + 1, Fraction(y) * cover);

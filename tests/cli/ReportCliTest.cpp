@@ -128,5 +128,24 @@ TEST(ReportCliInput, MalformedChainIsBadInput) {
   test::ExpectBadInput(r, {(dir / "chain.csv").string(), "header"});
 }
 
+// map.json and chain.csv alone (no images, no model, a scene that no longer exists): the page
+// is still written, and says what it could not show; a --truth file that is missing is bad input.
+TEST(ReportCliInput, BareFolderStillGivesAPageAndAMissingTruthIsBadInput) {
+  test::TempDir dir;
+  test::WriteText(dir / "map.json", R"({"parameters": {"x": {"map": 1, "mean": 1, "sd": 0.1, "q025": 0.8,
+    "q975": 1.2, "ess": 500, "rhat": 1.0}}, "settings": {"scene": "/nonexistent/scene.json"}, "burn_in": 1})");
+  test::WriteText(dir / "chain.csv",
+                  "iteration,chain,level,temperature,accepted,swapped,log_posterior,log_likelihood,log_prior,x\n"
+                  "0,0,0,1,1,0,-1,-1,0,0.9\n1,0,0,1,0,0,-1,-1,0,1.1\n2,0,0,1,1,0,-1,-1,0,1.0\n");
+  const auto r = RunCommand(kVkrecon + " report -q " + Quote(dir.path()));
+  ASSERT_EQ(r.exit_status, 0) << r.err;
+  const std::string html = test::ReadText(dir / "report.html");
+  EXPECT_NE(html.find("<td class=\"name\">x</td>"), std::string::npos);
+  EXPECT_NE(html.find("the scene cannot be read now"), std::string::npos);
+  EXPECT_NE(html.find("model.glb is missing"), std::string::npos);
+  test::ExpectBadInput(RunCommand(kVkrecon + " report " + Quote(dir.path()) + " --truth " + Quote(dir / "truth.json")),
+                       {(dir / "truth.json").string(), "missing"});
+}
+
 }  // namespace
 }  // namespace vkr
