@@ -1,6 +1,7 @@
 #include "apps/Reconstruct.h"
 
 #include "apps/Diagnosis.h"
+#include "apps/Report.h"
 
 #include <unistd.h>
 
@@ -448,6 +449,7 @@ ReconstructResult Reconstruct(const ReconstructOptions& options, vk::Device& dev
   // outputs shows none, and its checkpoint writes them all again on --resume.
   result.map_json = options.output_dir / "map.json";
   WriteAtomically(result.map_json, map.dump(2) + "\n");
+  WriteRunReport(options.output_dir, scene, geometry, summary.map);  // overlays/, report.html (docs/REPORT.md)
   if (!options.quiet) std::cerr << summary.BriefReport() << "\n";
   return result;
 }

@@ -48,7 +48,7 @@ int RunRun(int argc, char** argv) {
     return FinishWithDevice(*device, 1);
   }
   for (const std::string& note : result.notes) std::cerr << "vkrecon run: note: " << note << "\n";
-  if (!options.quiet) std::cerr << "vkrecon run: wrote " << out << "/ (map.json, chain.csv, composite.exr, model.glb, reprojections/)\n";
+  if (!options.quiet) std::cerr << "vkrecon run: wrote " << out << "/ (report.html, map.json, chain.csv, composite.exr, model.glb, reprojections/, overlays/)\n";
   if (result.failed) {
     std::cerr << "vkrecon run: error: the result is not trustworthy (see the notes above and map.json's diagnosis)\n";
     return FinishWithDevice(*device, 1);

@@ -18,6 +18,7 @@ struct Subcommand {
 
 constexpr Subcommand kSubcommands[] = {
     {"run", vkr::app::RunRun, "reconstruct: sample the parameters against the photographs"},
+    {"report", vkr::app::RunReport, "write a run's report.html again from its output folder"},
     {"synth", vkr::app::RunSynth, "render reference images of a textured scene at given parameters"},
     {"render", vkr::app::RunRender, "render novel views (linear float RGBA OpenEXR)"},
     {"likelihood", vkr::app::RunLikelihood, "evaluate, sweep, dump or profile the likelihood at given parameters"},

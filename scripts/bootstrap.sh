@@ -3,7 +3,8 @@
 # Idempotent: runs `apt-get update` and `apt-get install` only when something is missing.
 # Works as root or through sudo; a bare Debian 12 with nothing but apt is enough.
 # Usage: scripts/bootstrap.sh [GROUP…]. Optional groups add packages a few scripts need:
-#   fuzz  clang, libFuzzer and llvm-symbolizer for scripts/fuzz.sh (docs/FUZZING.md)
+#   fuzz    clang, libFuzzer and llvm-symbolizer for scripts/fuzz.sh (docs/FUZZING.md)
+#   report  headless Chromium for scripts/report_screenshot.sh (docs/REPORT.md)
 set -euo pipefail
 
 PACKAGES=(
@@ -16,6 +17,9 @@ PACKAGES=(
   libcli11-dev libmuparser-dev libgtest-dev
   # python3 draws the plots of the sweep and benchmark scripts (optional at run time)
   python3
+  # the plots and the 3D view of a run's report.html, inlined from /usr/share/javascript
+  # (optional at run time: without them the report keeps its tables and images; docs/REPORT.md)
+  libjs-chart.js libjs-three
 )
 
 for group in "$@"; do
@@ -23,7 +27,9 @@ for group in "$@"; do
     # clang-14 is Debian 12's clang; libclang-rt-14-dev holds libFuzzer and the sanitizer
     # runtimes, llvm-14 the symbolizer that turns their reports into file:line.
     fuzz) PACKAGES+=(clang-14 libclang-rt-14-dev llvm-14) ;;
-    *) echo "bootstrap: unknown package group '$group' (known: fuzz)" >&2; exit 2 ;;
+    # chromium renders report.html headless: a screenshot, and the page's console errors.
+    report) PACKAGES+=(chromium) ;;
+    *) echo "bootstrap: unknown package group '$group' (known: fuzz, report)" >&2; exit 2 ;;
   esac
 done
 

@@ -22,6 +22,9 @@ SETTINGS=(--set cameras="$OUT/images/cameras.json" --set images="$OUT/images"
           --set likelihood.atlas=128 --set sampler.iterations=600)
 "$VKRECON" run "$ASSET/scene.json" "${SETTINGS[@]}" -o "$OUT/run"
 
+# The run wrote report.html; again with the truth, so its table marks intervals that miss it.
+"$VKRECON" report -q "$OUT/run" --truth "$ASSET/truth.json"
+
 echo "== 3/3 render: 8 novel views of the reconstruction (EXR + PNG)"
 "$VKRECON" render "$ASSET/scene.json" "${SETTINGS[@]}" --at "$OUT/run/at_map.json" \
   --texture "$OUT/run/composite.exr" --orbit 8 --png -o "$OUT/views/orbit.exr"
@@ -35,6 +38,7 @@ for k, v in m["parameters"].items():
     print(f"{k:>10} {t[k]:9.4f} {v['map']:9.4f} {v['mean']:9.4f} {v['sd']:8.4f}   [{v['q025']:8.4f}, {v['q975']:8.4f}]")
 PY
 echo
+echo "Report:           $OUT/run/report.html (open it in a browser; docs/REPORT.md)"
 echo "Reconstruction:   $OUT/run/map.json, chain.csv, composite.exr, model.glb (Blender: File › Import › glTF 2.0)"
 echo "Reprojections:    $OUT/run/reprojections/*.png (reference | synthetic | |difference|×4)"
 echo "Novel views:      $OUT/views/orbit_*.exr (+ .png)"

@@ -1,0 +1,42 @@
+#pragma once
+// What report.html is made of besides its layout (apps/Report.cpp): images as data URIs
+// within a size budget, the chain as compact JSON for the plots, the JavaScript libraries
+// read from Debian's packages, and the page's own style and script (ReportPage.cpp).
+
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace vkr::app::report {
+
+std::string Base64(const std::string& bytes);
+// Escapes &, <, >, " for HTML text and attribute values.
+std::string Html(const std::string& text);
+
+// A JPEG data URI of the image file, its longest side at most `max_side` pixels (box
+// filtered), quality 85; nothing when the file is missing or unreadable. JPEG: the
+// reprojections of noisy photographs are four times smaller than as PNG, which keeps a
+// report of a dozen cameras under its budget.
+std::optional<std::string> ImageDataUri(const std::filesystem::path& file, int max_side);
+
+// chain.csv as {"names": [...], "chains": [{"iteration": [...], "level": [...],
+// "temperature": [...], "accepted": [...], "swapped": [...], "log_posterior": [...],
+// "values": [[per parameter]...]}...]}, each chain thinned to at most `max_rows` rows; a
+// kept row's accepted/swapped are the shares over the rows it stands for. Throws InputError
+// naming the file when it is missing or malformed.
+nlohmann::json ReadChain(const std::filesystem::path& file, int max_rows = 1000);
+
+// One JavaScript library file's text, or nothing when it is not installed.
+std::optional<std::string> ReadLibrary(const std::filesystem::path& file);
+
+// The page's CSS and its script (ReportPage.cpp): the script reads the JSON in
+// <script id="report-data"> and draws every chart; the error hook comes first in <head> so
+// a browser check (scripts/report_screenshot.sh) can find errors in #report-errors.
+const char* PageStyle();
+const char* ErrorHook();
+const char* PageScript();
+const char* ModelViewScript();
+
+}  // namespace vkr::app::report
