@@ -476,7 +476,7 @@ ReconstructResult Reconstruct(const ReconstructOptions& options, vk::Device& dev
                                      {"levels", scene.likelihood.levels},
                                      {"photometric", scene.likelihood.photometric},
                                      {"clutter", scene.likelihood.clutter}}},
-                     {"sampler", opt::ToJson(sampler_options)},
+                     {"sampler", opt::ToJson(sampler->options())},
                      {"time_limit", time_limit}};
   for (const SceneOverride& o : options.overrides) map["settings"]["overrides"].push_back(o.path + "=" + o.value);
   map["diagnosis"] = diagnosis.json;

@@ -88,7 +88,7 @@ int RunRun(int argc, char** argv) {
     std::signal(SIGINT, [](int) { RequestStop(); });
     if (ranks.rank() == 0) {
       g_terminated_message = "\nvkrecon run: the MPI job was ended (a rank failed or was killed; mpirun names it): no "
-                             "result was written; the last checkpoint is in " + out + "/checkpoint.json; continue with: " +
+                             "result was written; the last checkpoint is in " + out + "/checkpoint.json; continue with the same command and --resume: " +
                              resume + "\n";
       std::signal(SIGTERM, OnTerminate);
     }
@@ -100,7 +100,7 @@ int RunRun(int argc, char** argv) {
     ranks.Abort(2);
   } catch (const std::exception& e) {
     std::cerr << "vkrecon run (rank " << ranks.rank() << " of " << ranks.size() << "): error: " << e.what()
-              << "\nvkrecon run: the MPI job ends; the last checkpoint is in " << out << "/checkpoint.json; continue with: "
+              << "\nvkrecon run: the MPI job ends; the last checkpoint is in " << out << "/checkpoint.json; continue with the same command and --resume: "
               << resume << "\n";
     ranks.Abort(1);
   }
