@@ -1,6 +1,8 @@
 #include "apps/Reconstruct.h"
 
 #include "apps/Diagnosis.h"
+#include "apps/DistributedTarget.h"
+#include "apps/Ranks.h"
 #include "apps/Report.h"
 
 #include <unistd.h>
@@ -75,12 +77,14 @@ class LikelihoodTarget : public opt::Target {
  public:
   // `output_dir`: where the clutter masks found at the mode are kept, in clutter/ (they are
   // images, so the calibration that checkpoints carry names their files, relative to it).
+  // `writes_files` false (MPI ranks other than 0): names the masks' files, writes none.
   LikelihoodTarget(Likelihood& likelihood, const Scene& scene, bool estimate_sigma, bool mask_clutter,
-                   fs::path output_dir)
+                   fs::path output_dir, bool writes_files)
       : likelihood_(likelihood),
         scene_(scene),
         estimate_sigma_(estimate_sigma),
         mask_clutter_(mask_clutter),
+        writes_files_(writes_files),
         output_dir_(std::move(output_dir)) {}
   int max_batch() const override { return likelihood_.max_batch(); }
   int levels() const override { return likelihood_.levels(); }
@@ -104,6 +108,7 @@ class LikelihoodTarget : public opt::Target {
   // Keeps `mask` for checkpoints; its file name relative to the output folder.
   std::string KeepMask(const std::string& camera, const Image& mask) const {
     const std::string file = MaskFileName(camera, mask);
+    if (!writes_files_) return file;
     fs::create_directories(output_dir_ / kCheckpointMasks);
     if (!fs::exists(output_dir_ / file)) WritePngAtomically(output_dir_ / file, mask);
     return file;
@@ -126,7 +131,7 @@ class LikelihoodTarget : public opt::Target {
  private:
   Likelihood& likelihood_;
   const Scene& scene_;
-  bool estimate_sigma_, mask_clutter_;
+  bool estimate_sigma_, mask_clutter_, writes_files_;
   fs::path output_dir_;
   NoiseCalibration calibration_;  // κ = 1 until calibrated
 };
@@ -198,10 +203,11 @@ class ProgressBar {
 // The annealing's starting temperature, from the data: at T₀ the log-likelihood should vary
 // across the prior by about the number of parameters, so the first iterations can roam. A
 // fixed T₀ is far too cold for photographs, whose log-likelihood spans 10⁴–10⁵ nats
-// across the prior at full resolution. Scored at the coarsest level, where sampling starts.
-double InitialTemperature(const Scene& scene, Likelihood& likelihood) {
+// across the prior at full resolution. Scored at the coarsest level, where sampling starts,
+// through the (uncalibrated, κ = 1) target, so that MPI ranks share the batch.
+double InitialTemperature(const Scene& scene, opt::Target& target) {
   std::mt19937_64 rng(scene.sampler.seed);
-  std::vector<std::vector<double>> draws(size_t(likelihood.max_batch()), scene.InitialValues());
+  std::vector<std::vector<double>> draws(size_t(target.max_batch()), scene.InitialValues());
   for (auto& psi : draws)
     for (size_t i = 0; i < psi.size(); ++i) {
       const Parameter& p = scene.parameters[i];
@@ -210,12 +216,11 @@ double InitialTemperature(const Scene& scene, Likelihood& likelihood) {
                                                             : p.prior.a + p.prior.b * 2.0 * (u - 0.5) * 1.7;
       if (p.Admissible(x)) psi[i] = x;
     }
-  const int level = likelihood.level();
-  likelihood.SetLevel(likelihood.levels() - 1);
+  target.SetLevel(target.levels() - 1);
   std::vector<double> values;
-  for (const Evaluation& e : likelihood.Evaluate(draws))
-    if (std::isfinite(e.total())) values.push_back(e.total());
-  likelihood.SetLevel(level);
+  for (const double v : target.Evaluate(draws))
+    if (std::isfinite(v)) values.push_back(v);
+  target.SetLevel(0);
   if (values.size() < 2) return 10.0;
   double mean = 0.0, var = 0.0;
   for (double v : values) mean += v / values.size();
@@ -251,13 +256,19 @@ ReconstructResult Reconstruct(const ReconstructOptions& options, vk::Device& dev
   if (scene.parameters.empty())
     throw InputError(scene.file.string(), "parameters", "nothing to reconstruct: the scene declares no parameter");
   const fs::path checkpoint_file = options.output_dir / "checkpoint.json";
-  fs::create_directories(options.output_dir);
+  // Under MPI every rank runs this function with the same sampler; rank 0 alone writes
+  // (checkpoints, clutter masks, outputs) and talks (docs/SCALE_OUT.md).
+  const Ranks& ranks = Ranks::World();
+  const bool root = ranks.rank() == 0;
+  const bool quiet = options.quiet || !root;
+  if (root) fs::create_directories(options.output_dir);
 
   LikelihoodSetup setup;
   setup.max_batch = scene.sampler.batch;
   std::unique_ptr<Likelihood> likelihood = MakeLikelihood(device, scene, setup);
-  LikelihoodTarget target(*likelihood, scene, scene.likelihood.sigma_auto, scene.likelihood.clutter,
-                          options.output_dir);
+  LikelihoodTarget local_target(*likelihood, scene, scene.likelihood.sigma_auto, scene.likelihood.clutter,
+                                options.output_dir, root);
+  DistributedTarget target(local_target, ranks);
   // The photographs' exposures differ: a first colour correction at the initial parameters,
   // on the coarsest level, where misregistration matters least (refitted at the mode). Done
   // again, identically, when a run resumes before its first calibration.
@@ -287,17 +298,26 @@ ReconstructResult Reconstruct(const ReconstructOptions& options, vk::Device& dev
   // A run stopped before it wrote its first checkpoint (while starting, loading photographs)
   // left nothing to continue: resuming it is starting it, which gives the same result. Said
   // even with --quiet, in case OUT was mistyped.
-  const bool resume = options.resume && fs::exists(checkpoint_file);
-  if (options.resume && !resume)
+  // Rank 0 reads the checkpoint and hands it to the others, so all decide alike (a rank that
+  // looked for the file after rank 0 had written its first one would resume while rank 0
+  // starts) and OUT need not be visible from every node for this.
+  std::string checkpoint_text;
+  if (root && options.resume && fs::exists(checkpoint_file)) {
+    std::ifstream in(checkpoint_file, std::ios::binary);
+    if (!in) throw InputError(checkpoint_file.string(), "", "cannot read the checkpoint");
+    checkpoint_text.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+    if (checkpoint_text.empty()) checkpoint_text = " ";  // empty means "none" below; parsing says what is wrong
+  }
+  if (options.resume) ranks.Broadcast(&checkpoint_text);
+  const bool resume = options.resume && !checkpoint_text.empty();
+  if (options.resume && !resume && root)
     std::cerr << "vkrecon run: warning: " << checkpoint_file.string()
               << " does not exist (the run stopped before its first checkpoint, or OUT is not the run's "
                  "folder): starting the run from the beginning\n";
   if (resume) {
-    std::ifstream in(checkpoint_file);
-    if (!in) throw InputError(checkpoint_file.string(), "", "cannot read the checkpoint");
     nlohmann::json state;
     try {
-      in >> state;
+      state = nlohmann::json::parse(checkpoint_text);
       sampler = std::make_unique<opt::Sampler>(state, target);
     } catch (const std::exception& e) {
       throw InputError(checkpoint_file.string(), "", std::string("cannot resume: ") + e.what());
@@ -311,14 +331,14 @@ ReconstructResult Reconstruct(const ReconstructOptions& options, vk::Device& dev
     if (!opt::ValidateProblem(sampler_options, ParameterSpecs(scene), target, &why))
       throw InputError(scene.file.string(), "sampler", why);
     PreflightVisibility(scene, *likelihood);
-    sampler_options.initial_temperature = InitialTemperature(scene, *likelihood);
+    sampler_options.initial_temperature = InitialTemperature(scene, target);
     sampler = std::make_unique<opt::Sampler>(sampler_options, ParameterSpecs(scene), target);
     // From here on a resume continues this run rather than starting it again (the initial
     // temperature above is drawn from the photographs: not worth redoing).
-    WriteAtomically(checkpoint_file, sampler->Checkpoint().dump());
+    if (root) WriteAtomically(checkpoint_file, sampler->Checkpoint().dump());
   }
 
-  ProgressBar bar(options.quiet);
+  ProgressBar bar(quiet);
   auto last_checkpoint = Clock::now();
   // Per invocation: a resumed run gets the whole limit again.
   const double time_limit = options.time_limit >= 0.0 ? options.time_limit : scene.sampler.TimeLimit();
@@ -331,13 +351,24 @@ ReconstructResult Reconstruct(const ReconstructOptions& options, vk::Device& dev
     if (time_limit > 0.0 && p.phase == opt::Phase::Sampling &&
         Clock::now() - sampling_start > std::chrono::duration<double>(time_limit)) {
       r.finish_sampling = true;
-      if (!said_time_limit && !options.quiet)
+      if (!said_time_limit && !quiet)
         std::cerr << "\nvkrecon run: the time limit (" << Duration(time_limit)
                   << ") is up: sampling ends once the burn-in (with iterations \"auto\": the schedule) is over\n";
       said_time_limit = true;
     }
     r.stop = g_stop.load();
-    r.checkpoint = r.stop || Clock::now() - last_checkpoint > std::chrono::duration<double>(options.checkpoint_seconds);
+    if (ranks.distributed()) {
+      // What changes the sampler's course (a stop, the time limit) is rank 0's decision, so
+      // that every rank's sampler stays the same: one byte per frame.
+      const auto start = Clock::now();
+      unsigned char decision = (r.stop ? 1 : 0) | (r.finish_sampling ? 2 : 0);
+      ranks.Broadcast(&decision, 1);
+      r.stop = decision & 1;
+      r.finish_sampling = decision & 2;
+      target.times().control += std::chrono::duration<double>(Clock::now() - start).count();
+      ++target.times().control_messages;
+    }
+    r.checkpoint = root && (r.stop || Clock::now() - last_checkpoint > std::chrono::duration<double>(options.checkpoint_seconds));
     return r;
   };
   callbacks.on_checkpoint = [&](const nlohmann::json& state) {
@@ -347,9 +378,27 @@ ReconstructResult Reconstruct(const ReconstructOptions& options, vk::Device& dev
   opt::SamplerSummary summary;
   opt::Run(*sampler, &summary, callbacks);
   bar.Finish();
+  const nlohmann::json exchange = ranks.distributed() ? ExchangeCost(target.times(), ranks, scene.sampler.batch)
+                                                      : nlohmann::json();
 
   ReconstructResult result;
   if (summary.termination == opt::Termination::Failed) throw std::runtime_error("sampler failed: " + summary.message);
+  if (!root) {  // rank 0 writes everything; the MPI job ends when it has
+    result.completed = summary.termination == opt::Termination::Completed;
+    result.diagnosis_ok = true;
+    result.map = summary.map;
+    return result;
+  }
+  if (ranks.distributed()) {
+    // Beside map.json, not in it: map.json is bit-identical to a one-process run's.
+    WriteAtomically(options.output_dir / "scale_out.json", exchange.dump(2) + "\n");
+    if (!options.quiet)
+      std::cerr << "vkrecon run: " << ranks.size() << " MPI ranks: per call "
+                << exchange["evaluate_s"].get<double>() * 1e3 << " ms scoring, "
+                << exchange["exchange_s"].get<double>() * 1e3 << " ms exchanging ("
+                << exchange["share"].get<double>() * 100 << " % with the frame requests), "
+                << exchange["wait_s"].get<double>() * 1e3 << " ms waiting for the slowest rank (scale_out.json)\n";
+  }
   if (summary.termination == opt::Termination::Stopped) {
     WriteAtomically(checkpoint_file, sampler->Checkpoint().dump());
     return result;  // interrupted: the checkpoint is the output
@@ -427,7 +476,7 @@ ReconstructResult Reconstruct(const ReconstructOptions& options, vk::Device& dev
                                      {"levels", scene.likelihood.levels},
                                      {"photometric", scene.likelihood.photometric},
                                      {"clutter", scene.likelihood.clutter}}},
-                     {"sampler", opt::ToJson(sampler_options)},
+                     {"sampler", opt::ToJson(sampler->options())},
                      {"time_limit", time_limit}};
   for (const SceneOverride& o : options.overrides) map["settings"]["overrides"].push_back(o.path + "=" + o.value);
   map["diagnosis"] = diagnosis.json;
@@ -450,7 +499,7 @@ ReconstructResult Reconstruct(const ReconstructOptions& options, vk::Device& dev
   result.map_json = options.output_dir / "map.json";
   WriteAtomically(result.map_json, map.dump(2) + "\n");
   WriteRunReport(options.output_dir, scene, geometry, summary.map);  // overlays/, report.html (docs/REPORT.md)
-  if (!options.quiet) std::cerr << summary.BriefReport() << "\n";
+  if (!quiet) std::cerr << summary.BriefReport() << "\n";
   return result;
 }
 

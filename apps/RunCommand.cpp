@@ -1,10 +1,45 @@
+#include <unistd.h>
+
 #include <csignal>
+#include <cstdlib>
+#include <cstring>
 #include <iostream>
 
 #include "apps/Commands.h"
+#include "apps/Ranks.h"
 #include "apps/Reconstruct.h"
+#include "engine/common/InputError.h"
 
 namespace vkr::app {
+namespace {
+
+// Under MPI without --device or VKRECON_DEVICE: the node's GPUs shared out by local rank
+// (rank i on a node takes its GPU i mod GPUs); with no GPU, the default (lavapipe).
+int RankDevice(int requested, const Ranks& ranks) {
+  if (requested >= 0 || !ranks.distributed()) return requested;
+  if (const char* env = std::getenv("VKRECON_DEVICE"); env && *env) return requested;
+  std::vector<int> gpus;
+  for (const vk::PhysicalDeviceInfo& d : vk::ListDevices())
+    if (d.usable && d.type != "CPU") gpus.push_back(d.index);
+  return gpus.empty() ? requested : gpus[size_t(ranks.local_rank()) % gpus.size()];
+}
+
+// What rank 0 says when mpirun ends the job because another rank died (it sends SIGTERM):
+// the checkpoint rank 0 kept is where the run continues. Written by the handler, so built
+// beforehand; write() is async-signal-safe.
+std::string g_terminated_message;
+void OnTerminate(int signal) {
+  if (!g_terminated_message.empty())
+    (void)!write(2, g_terminated_message.data(), g_terminated_message.size());
+  std::signal(signal, SIG_DFL);
+  std::raise(signal);
+}
+
+// The exit status and the closing lines of rank 0 (or the one process).
+int FinishRun(const ReconstructOptions& options, const std::string& scene, const std::string& out,
+           const ReconstructResult& result, const vk::Device& device, const std::string& resume_command = "");
+
+}  // namespace
 
 int RunRun(int argc, char** argv) {
   CLI::App app(
@@ -39,24 +74,58 @@ int RunRun(int argc, char** argv) {
   options.scene_file = scene.scene;
   options.overrides = ParseOverrides(scene.sets);
   options.output_dir = out;
-  auto device = OpenDevice(scene.device);
-  std::signal(SIGINT, [](int) { RequestStop(); });
-  const ReconstructResult result = Reconstruct(options, *device);
+  const Ranks& ranks = Ranks::World();
+  if (!ranks.distributed()) {
+    auto device = OpenDevice(scene.device);
+    std::signal(SIGINT, [](int) { RequestStop(); });
+    return FinishRun(options, scene.scene, out, Reconstruct(options, *device), *device);
+  }
+  // One of several MPI ranks (docs/SCALE_OUT.md). A rank that fails must end the whole job:
+  // the others would wait for it forever in the next exchange.
+  const std::string resume = "mpirun -n " + std::to_string(ranks.size()) + " vkrecon run " + scene.scene + " -o " + out + " --resume";
+  try {
+    auto device = OpenDevice(RankDevice(scene.device, ranks));
+    std::signal(SIGINT, [](int) { RequestStop(); });
+    if (ranks.rank() == 0) {
+      g_terminated_message = "\nvkrecon run: the MPI job was ended (a rank failed or was killed; mpirun names it): no "
+                             "result was written; the last checkpoint is in " + out + "/checkpoint.json; continue with the same command and --resume: " +
+                             resume + "\n";
+      std::signal(SIGTERM, OnTerminate);
+    }
+    const ReconstructResult result = Reconstruct(options, *device);
+    if (ranks.rank() != 0) return FinishWithDevice(*device, 0);
+    return FinishRun(options, scene.scene, out, result, *device, resume);
+  } catch (const InputError& e) {
+    std::cerr << "vkrecon run (rank " << ranks.rank() << " of " << ranks.size() << "): " << e.what() << "\n";
+    ranks.Abort(2);
+  } catch (const std::exception& e) {
+    std::cerr << "vkrecon run (rank " << ranks.rank() << " of " << ranks.size() << "): error: " << e.what()
+              << "\nvkrecon run: the MPI job ends; the last checkpoint is in " << out << "/checkpoint.json; continue with the same command and --resume: "
+              << resume << "\n";
+    ranks.Abort(1);
+  }
+}
+
+namespace {
+
+int FinishRun(const ReconstructOptions& options, const std::string& scene, const std::string& out,
+           const ReconstructResult& result, const vk::Device& device, const std::string& resume_command) {
   if (!result.completed) {
-    std::cerr << "vkrecon run: interrupted; continue with: vkrecon run " << scene.scene << " -o " << out
-              << " --resume\n";
-    return FinishWithDevice(*device, 1);
+    std::cerr << "vkrecon run: interrupted; continue with: "
+              << (resume_command.empty() ? "vkrecon run " + scene + " -o " + out + " --resume" : resume_command) << "\n";
+    return FinishWithDevice(device, 1);
   }
   for (const std::string& note : result.notes) std::cerr << "vkrecon run: note: " << note << "\n";
   if (!options.quiet) std::cerr << "vkrecon run: wrote " << out << "/ (report.html, map.json, chain.csv, composite.exr, model.glb, reprojections/, overlays/)\n";
   if (result.failed) {
     std::cerr << "vkrecon run: error: the result is not trustworthy (see the notes above and map.json's diagnosis)\n";
-    return FinishWithDevice(*device, 1);
+    return FinishWithDevice(device, 1);
   }
   if (!result.diagnosis_ok)
     std::cerr << "vkrecon run: warning: the diagnosis is not ok (see the notes above and map.json's diagnosis): "
                  "read the intervals with care\n";
-  return FinishWithDevice(*device, 0);
+  return FinishWithDevice(device, 0);
 }
 
+}  // namespace
 }  // namespace vkr::app

@@ -20,6 +20,10 @@ PACKAGES=(
   # the plots and the 3D view of a run's report.html, inlined from /usr/share/javascript
   # (optional at run time: without them the report keeps its tables and images; docs/REPORT.md)
   libjs-chart.js libjs-three
+  # MPI: `mpirun -n R vkrecon run` spreads a run over R ranks, one Vulkan device each
+  # (optional at configure time: without it vkrecon builds and runs as one process;
+  # docs/SCALE_OUT.md)
+  libopenmpi-dev openmpi-bin
 )
 
 for group in "$@"; do
