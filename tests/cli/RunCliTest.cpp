@@ -129,16 +129,20 @@ TEST(RunCli, KilledAnywhereAndResumedGivesTheUninterruptedResult) {
   const std::string straight_chain = test::ReadText(dir / "straight/chain.csv");
 
   std::mt19937 rng(13);
-  std::uniform_real_distribution<double> moment(0.0, seconds);
+  double span = seconds;
   int interrupted = 0;
-  for (int k = 0; k < 20; ++k) {
+  // Up to 40 tries for 20 interruptions: on a loaded machine the straight run may have been
+  // slower than the killed copies, whose kills then land after their end (CI saw 12 of 20).
+  // Such a kill still checks the resume of a finished run, and narrows the span to it.
+  for (int k = 0; k < 40 && interrupted < 20; ++k) {
     const fs::path out = dir / ("killed" + std::to_string(k));
-    const double at = moment(rng);
+    const double at = std::uniform_real_distribution<double>(0.0, span)(rng);
     const int pid = StartInBackground(run + " -o " + Q(out));
     ASSERT_GT(pid, 0);
     std::this_thread::sleep_for(std::chrono::duration<double>(at));
     KillHard(pid);
     if (!fs::exists(out / "map.json")) ++interrupted;
+    else span = std::max(at, 0.5 * seconds);
     const auto resumed = RunCommand(run + " -o " + Q(out) + " --resume");
     ASSERT_EQ(resumed.exit_status, 0) << "killed at " << at << " s: " << resumed.err;
     const nlohmann::json map = ReadJson(out / "map.json");
@@ -146,9 +150,8 @@ TEST(RunCli, KilledAnywhereAndResumedGivesTheUninterruptedResult) {
     EXPECT_EQ(map["calibration"], straight["calibration"]) << "killed at " << at << " s";
     EXPECT_EQ(test::ReadText(out / "chain.csv"), straight_chain) << "killed at " << at << " s";
   }
-  // Most kills must land inside the run, or the test proved little (the machine may run the
-  // killed copies slower or faster than the straight one).
-  EXPECT_GE(interrupted, 15) << "of 20 kills, only " << interrupted << " interrupted the run";
+  // Kills must land inside the run, or the test proved little.
+  EXPECT_GE(interrupted, 15) << "only " << interrupted << " kills interrupted the run";
 }
 
 TEST(RunCli, ATruncatedOrCorruptCheckpointIsBadInputNotACrashOrARestart) {
