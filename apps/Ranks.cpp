@@ -28,8 +28,13 @@ void Check(int code, const char* call) {
 }  // namespace
 
 Ranks& Ranks::World() {
-  static Ranks ranks;
+  static Ranks ranks(true);
   return ranks;
+}
+
+const Ranks& Ranks::One() {
+  static const Ranks one(false);
+  return one;
 }
 
 bool Ranks::Built() {
@@ -40,9 +45,9 @@ bool Ranks::Built() {
 #endif
 }
 
-Ranks::Ranks() {
+Ranks::Ranks(bool join) {
 #if VKRECON_HAVE_MPI
-  if (!UnderLauncher()) return;
+  if (!join || !UnderLauncher()) return;
   int initialised = 0;
   MPI_Initialized(&initialised);
   if (!initialised) {

@@ -15,6 +15,9 @@ class Ranks {
   // The run's ranks. The first call joins the MPI job when the process was started by an
   // MPI launcher (Open MPI's or PMIx/PMI environment variables); MPI_Finalize runs at exit.
   static Ranks& World();
+  // One rank that never touches MPI: a scene of `vkrecon run LIST` runs in one process
+  // while the job's ranks run other scenes (RunMany).
+  static const Ranks& One();
   // Whether this binary was built with MPI (`vkrecon run --help` and the tests ask).
   static bool Built();
 
@@ -44,7 +47,7 @@ class Ranks {
   Ranks& operator=(const Ranks&) = delete;
 
  private:
-  Ranks();
+  explicit Ranks(bool join);
   int rank_ = 0, size_ = 1, local_rank_ = 0, local_size_ = 1;
   bool joined_ = false;  // MPI_Init was called here
 };

@@ -258,7 +258,7 @@ ReconstructResult Reconstruct(const ReconstructOptions& options, vk::Device& dev
   const fs::path checkpoint_file = options.output_dir / "checkpoint.json";
   // Under MPI every rank runs this function with the same sampler; rank 0 alone writes
   // (checkpoints, clutter masks, outputs) and talks (docs/SCALE_OUT.md).
-  const Ranks& ranks = Ranks::World();
+  const Ranks& ranks = options.one_process ? Ranks::One() : Ranks::World();
   const bool root = ranks.rank() == 0;
   const bool quiet = options.quiet || !root;
   if (root) fs::create_directories(options.output_dir);

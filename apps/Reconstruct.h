@@ -21,6 +21,7 @@ struct ReconstructOptions {
   double checkpoint_seconds = 5.0; // how often the state is saved
   int temperatures = 0;            // replicas per chain; 0: sampler.batch / sampler.chains
   double time_limit = -1.0;        // seconds of sampling (0: none); below 0: sampler.time_limit
+  bool one_process = false;        // this process alone, even under MPI (a scene of a list)
 };
 
 struct ReconstructResult {

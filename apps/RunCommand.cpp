@@ -1,13 +1,17 @@
 #include <unistd.h>
 
+#include <chrono>
+#include <cmath>
 #include <csignal>
 #include <cstdlib>
 #include <cstring>
+#include <fstream>
 #include <iostream>
 
 #include "apps/Commands.h"
 #include "apps/Ranks.h"
 #include "apps/Reconstruct.h"
+#include "apps/SceneList.h"
 #include "engine/common/InputError.h"
 
 namespace vkr::app {
@@ -35,6 +39,8 @@ void OnTerminate(int signal) {
   std::raise(signal);
 }
 
+int RunMany(const ReconstructOptions& options, const SceneArgs& args, const std::string& out);
+
 // The exit status and the closing lines of rank 0 (or the one process).
 int FinishRun(const ReconstructOptions& options, const std::string& scene, const std::string& out,
            const ReconstructResult& result, const vk::Device& device, const std::string& resume_command = "");
@@ -54,7 +60,9 @@ int RunRun(int argc, char** argv) {
       "the fit does not explain the images at all. By default (sampler.iterations \"auto\") sampling goes "
       "on until every parameter's rank-normalised R-hat <= 1.01 and bulk-ESS >= 400, or the time limit; "
       "the progress line shows both. Sampler options go in the "
-      "scene's \"sampler\" block or --set sampler.NAME=VALUE (optimiser/SamplerOptions.h).",
+      "scene's \"sampler\" block or --set sampler.NAME=VALUE (optimiser/SamplerOptions.h). SCENE may also "
+      "be a folder (each subfolder with a scene.json) or a .txt list of scenes: each runs into OUT/<name>, "
+      "spread over the MPI ranks under mpirun, with a summary table (OUT/summary.csv).",
       "run");
   SceneArgs scene;
   ReconstructOptions options;
@@ -74,6 +82,7 @@ int RunRun(int argc, char** argv) {
   options.scene_file = scene.scene;
   options.overrides = ParseOverrides(scene.sets);
   options.output_dir = out;
+  if (IsSceneList(scene.scene)) return RunMany(options, scene, out);
   const Ranks& ranks = Ranks::World();
   if (!ranks.distributed()) {
     auto device = OpenDevice(scene.device);
@@ -107,6 +116,86 @@ int RunRun(int argc, char** argv) {
 }
 
 namespace {
+
+// How one scene of a list ended, as a number (it travels to rank 0 as a double).
+enum class ListedOutcome { Ok, NotOk, ModelError, Interrupted, BadInput, Error };
+const char* ToString(ListedOutcome o) {
+  switch (o) {
+    case ListedOutcome::Ok: return "ok";
+    case ListedOutcome::NotOk: return "not ok (see its map.json)";
+    case ListedOutcome::ModelError: return "not trustworthy";
+    case ListedOutcome::Interrupted: return "interrupted (--resume)";
+    case ListedOutcome::BadInput: return "bad input";
+    case ListedOutcome::Error: return "error";
+  }
+  return "?";
+}
+int ExitStatus(ListedOutcome o) {
+  if (o == ListedOutcome::BadInput) return 2;
+  return o == ListedOutcome::Ok || o == ListedOutcome::NotOk ? 0 : 1;
+}
+
+// Many scenes (docs/SCALE_OUT.md, "Many scenes"): scene i runs on rank i mod R as a process
+// of its own, into OUT/<name>; rank 0 gathers how each ended and prints the table (also
+// OUT/summary.csv). A scene that fails does not stop the others; the exit status is the
+// worst of theirs.
+int RunMany(const ReconstructOptions& options, const SceneArgs& args, const std::string& out) {
+  const Ranks& ranks = Ranks::World();
+  const std::vector<ListedScene> scenes = ReadSceneList(args.scene);
+  auto device = OpenDevice(RankDevice(args.device, ranks));
+  std::signal(SIGINT, [](int) { RequestStop(); });
+  const size_t n = scenes.size();
+  std::vector<double> mine(2 * n, std::nan(""));  // per scene: outcome, seconds
+  bool stopped = false;
+  for (size_t i = 0; i < n; ++i) {
+    if (int(i % size_t(ranks.size())) != ranks.rank()) continue;
+    ListedOutcome outcome = ListedOutcome::Interrupted;
+    const auto start = std::chrono::steady_clock::now();
+    if (!stopped) {
+      ReconstructOptions one = options;
+      one.scene_file = scenes[i].file;
+      one.output_dir = std::filesystem::path(out) / scenes[i].name;
+      one.one_process = true;
+      one.quiet = options.quiet || ranks.distributed();  // one progress line per terminal
+      try {
+        const ReconstructResult r = Reconstruct(one, *device);
+        if (!r.completed) stopped = true;
+        else outcome = r.failed ? ListedOutcome::ModelError : r.diagnosis_ok ? ListedOutcome::Ok : ListedOutcome::NotOk;
+        for (const std::string& note : r.notes) std::cerr << "vkrecon run: " << scenes[i].name << ": note: " << note << "\n";
+      } catch (const InputError& e) {
+        std::cerr << "vkrecon run: " << e.what() << "\n";
+        outcome = ListedOutcome::BadInput;
+      } catch (const std::exception& e) {
+        std::cerr << "vkrecon run: " << scenes[i].name << ": error: " << e.what() << "\n";
+        outcome = ListedOutcome::Error;
+      }
+    }
+    mine[2 * i] = double(outcome);
+    mine[2 * i + 1] = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  }
+  const std::vector<double> all = ranks.GatherToRoot(mine);
+  if (ranks.rank() != 0) return FinishWithDevice(*device, 0);
+
+  int worst = 0;
+  std::filesystem::create_directories(out);
+  std::ofstream csv(std::filesystem::path(out) / "summary.csv");
+  csv << "scene,file,rank,exit_status,verdict,seconds,output\n";
+  std::cerr << "vkrecon run: " << n << " scene(s) on " << ranks.size() << " rank(s):\n";
+  for (size_t i = 0; i < n; ++i) {
+    const size_t owner = i % size_t(ranks.size());
+    const auto outcome = ListedOutcome(int(all[owner * 2 * n + 2 * i]));
+    const double seconds = all[owner * 2 * n + 2 * i + 1];
+    const std::string folder = (std::filesystem::path(out) / scenes[i].name).string();
+    worst = std::max(worst, ExitStatus(outcome));
+    char line[512];
+    std::snprintf(line, sizeof line, "  %-20s rank %-3zu exit %d  %7.1f s  %-26s %s\n", scenes[i].name.c_str(), owner,
+                  ExitStatus(outcome), seconds, ToString(outcome), folder.c_str());
+    std::cerr << line;
+    csv << scenes[i].name << "," << scenes[i].file.string() << "," << owner << "," << ExitStatus(outcome) << ","
+        << ToString(outcome) << "," << seconds << "," << folder << "\n";
+  }
+  return FinishWithDevice(*device, worst);
+}
 
 int FinishRun(const ReconstructOptions& options, const std::string& scene, const std::string& out,
            const ReconstructResult& result, const vk::Device& device, const std::string& resume_command) {

@@ -8,6 +8,7 @@
 #include <signal.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <filesystem>
 #include <fstream>
@@ -141,6 +142,69 @@ TEST(ScaleOut, RanksGiveTheOneProcessResultBitForBit) {
 }
 
 #endif
+
+// `vkrecon run FOLDER -o OUT` (docs/SCALE_OUT.md, "Many scenes"): two small box scenes with
+// different seeds in FOLDER/a and FOLDER/b, each written with absolute paths.
+fs::path WriteTwoScenes(const fs::path& dir) {
+  nlohmann::json scene = nlohmann::json::parse(std::ifstream(kBox / "scene.json"));
+  scene["images"] = (dir / "images").string();
+  scene["cameras"] = (dir / "images/cameras.json").string();
+  for (auto& node : scene["nodes"])
+    if (node.contains("albedo")) node["albedo"] = (kBox / node["albedo"].get<std::string>()).string();
+  scene["likelihood"] = {{"atlas", 64}, {"levels", 2}};
+  int seed = 1;
+  for (const char* name : {"a", "b"}) {
+    scene["sampler"] = {{"iterations", 30}, {"chains", 2}, {"batch", 4}, {"seed", seed++}};
+    fs::create_directories(dir / "scenes" / name);
+    std::ofstream(dir / "scenes" / name / "scene.json") << scene.dump(2);
+  }
+  return dir / "scenes";
+}
+
+nlohmann::json ReadMap(const fs::path& file) { return nlohmann::json::parse(std::ifstream(file)); }
+
+TEST(ManyScenes, AFolderOfScenesRunsEachIntoItsOwnFolderWithASummary) {
+  test::TempDir dir;
+  ASSERT_TRUE(SynthBoxImages(dir.path()));
+  const fs::path scenes = WriteTwoScenes(dir.path());
+  const auto listed = RunCommand(kVkrecon + " run -q " + Q(scenes) + " -o " + Q(dir / "out"));
+  ASSERT_EQ(listed.exit_status, 0) << listed.err;
+  EXPECT_NE(listed.err.find("2 scene(s) on 1 rank(s)"), std::string::npos) << listed.err;
+  for (const char* name : {"a", "b"}) {
+    SCOPED_TRACE(name);
+    // Each is the run of that scene alone.
+    const auto alone = RunCommand(kVkrecon + " run -q " + Q(scenes / name / "scene.json") + " -o " + Q(dir / "alone" / name));
+    ASSERT_EQ(alone.exit_status, 0) << alone.err;
+    EXPECT_EQ(ReadMap(dir / "out" / name / "map.json")["parameters"], ReadMap(dir / "alone" / name / "map.json")["parameters"]);
+    EXPECT_EQ(test::ReadText(dir / "out" / name / "chain.csv"), test::ReadText(dir / "alone" / name / "chain.csv"));
+  }
+  EXPECT_NE(ReadMap(dir / "out/a/map.json")["parameters"], ReadMap(dir / "out/b/map.json")["parameters"]);  // two seeds
+  const std::string summary = test::ReadText(dir / "out/summary.csv");
+  EXPECT_EQ(std::count(summary.begin(), summary.end(), '\n'), 3) << summary;
+  EXPECT_EQ(summary.rfind("scene,file,rank,exit_status,verdict,seconds,output\na,", 0), 0u) << summary;
+
+  // A list file: a missing scene is bad input naming the list and its line, before any run.
+  std::ofstream(dir / "list.txt") << "# two scenes\nscenes/a\n\nscenes/nowhere/scene.json\n";
+  const auto bad = RunCommand(kVkrecon + " run -q " + Q(dir / "list.txt") + " -o " + Q(dir / "out2"));
+  EXPECT_EQ(bad.exit_status, 2);
+  EXPECT_NE(bad.err.find("list.txt: line 4: no scene file"), std::string::npos) << bad.err;
+  EXPECT_FALSE(fs::exists(dir / "out2"));
+  std::ofstream(dir / "twice.txt") << "scenes/a\nscenes/a/scene.json\n";
+  const auto twice = RunCommand(kVkrecon + " run -q " + Q(dir / "twice.txt") + " -o " + Q(dir / "out3"));
+  EXPECT_EQ(twice.exit_status, 2);
+  EXPECT_NE(twice.err.find("line 2: a second scene named 'a'"), std::string::npos) << twice.err;
+
+#ifdef VKRECON_MPIEXEC
+  // Over two ranks: scene a on rank 0, b on rank 1, each the same run as alone.
+  const auto spread = RunCommand(Mpirun(2) + kVkrecon + " run -q " + Q(scenes) + " -o " + Q(dir / "mpi"));
+  ASSERT_EQ(spread.exit_status, 0) << spread.err;
+  EXPECT_NE(spread.err.find("2 scene(s) on 2 rank(s)"), std::string::npos) << spread.err;
+  for (const char* name : {"a", "b"})
+    EXPECT_EQ(test::ReadText(dir / "mpi" / name / "chain.csv"), test::ReadText(dir / "alone" / name / "chain.csv")) << name;
+  EXPECT_NE(test::ReadText(dir / "mpi/summary.csv").find("\nb,"), std::string::npos);
+  EXPECT_NE(test::ReadText(dir / "mpi/summary.csv").find(",1,0,"), std::string::npos);  // b: rank 1, exit 0
+#endif
+}
 
 }  // namespace
 }  // namespace vkr
