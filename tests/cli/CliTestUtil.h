@@ -24,4 +24,15 @@ inline void ExpectBadInput(const CommandResult& r, const std::vector<std::string
   for (const auto& n : needles) EXPECT_NE(r.err.find(n), std::string::npos) << "missing '" << n << "' in: " << r.err;
 }
 
+#if defined(VKRECON_BINARY) && defined(VKRECON_SOURCE_DIR)
+// Quarter-size images of the box asset at its truth in dir/images (`options` go to synth,
+// e.g. " --noise 8"): the runs of RunCliTest and ScaleOutCliTest reconstruct them.
+inline bool SynthBoxImages(const std::filesystem::path& dir, const std::string& options) {
+  const std::filesystem::path box = std::filesystem::path(VKRECON_SOURCE_DIR) / "assets/box";
+  return RunCommand(std::string(VKRECON_BINARY) + " synth -q " + Quote(box / "scene.json") + " --at " +
+                    Quote(box / "truth.json") + " --scale 0.25" + options + " -o " + Quote(dir / "images"))
+             .exit_status == 0;
+}
+#endif
+
 }  // namespace vkr::test

@@ -13,6 +13,7 @@
 #include <random>
 #include <thread>
 
+#include "tests/cli/CliTestUtil.h"
 #include "tests/common/TestFiles.h"
 
 namespace vkr {
@@ -20,6 +21,7 @@ namespace {
 
 namespace fs = std::filesystem;
 using test::RunCommand;
+using test::SynthBoxImages;
 
 const std::string kVkrecon = VKRECON_BINARY;
 const fs::path kBox = fs::path(VKRECON_SOURCE_DIR) / "assets/box";
@@ -50,18 +52,12 @@ void KillHard(int pid) {
   for (int i = 0; i < 200 && kill(pid, 0) == 0; ++i) std::this_thread::sleep_for(std::chrono::milliseconds(10));
 }
 
-// Quarter-size images of the box at its truth in dir/images.
-bool SynthBoxImages(const test::TempDir& dir, const std::string& options) {
-  return RunCommand(kVkrecon + " synth -q " + Q(kBox / "scene.json") + " --at " + Q(kBox / "truth.json") +
-                    " --scale 0.25" + options + " -o " + Q(dir / "images"))
-             .exit_status == 0;
-}
 
 nlohmann::json ReadJson(const fs::path& file) { return nlohmann::json::parse(test::ReadText(file)); }
 
 TEST(RunCli, KilledRunResumesToTheSameResult) {
   test::TempDir dir;
-  ASSERT_TRUE(SynthBoxImages(dir, " --noise 8"));
+  ASSERT_TRUE(SynthBoxImages(dir.path(), " --noise 8"));
   const auto straight = RunCommand(SmallRun(dir) + " -o " + Q(dir / "straight"));
   ASSERT_EQ(straight.exit_status, 0) << straight.err;
 
@@ -101,7 +97,7 @@ TEST(RunCli, KilledRunResumesToTheSameResult) {
 // not ok.
 TEST(RunCli, ATimeLimitEndsTheSamplingAndTheDiagnosisSaysSo) {
   test::TempDir dir;
-  ASSERT_TRUE(SynthBoxImages(dir, ""));
+  ASSERT_TRUE(SynthBoxImages(dir.path(), ""));
   const fs::path out = dir / "out";
   const auto r = RunCommand(SmallRun(dir, 40) + " --set sampler.until_converged=true --time-limit 0.001 -o " + Q(out));
   ASSERT_EQ(r.exit_status, 0) << r.err;
@@ -120,7 +116,7 @@ TEST(RunCli, ATimeLimitEndsTheSamplingAndTheDiagnosisSaysSo) {
 // than above keeps the 20 cycles to a couple of minutes.
 TEST(RunCli, KilledAnywhereAndResumedGivesTheUninterruptedResult) {
   test::TempDir dir;
-  ASSERT_TRUE(SynthBoxImages(dir, " --noise 8"));
+  ASSERT_TRUE(SynthBoxImages(dir.path(), " --noise 8"));
   const std::string run = SmallRun(dir, 40);
   const auto started = std::chrono::steady_clock::now();
   ASSERT_EQ(RunCommand(run + " -o " + Q(dir / "straight")).exit_status, 0);
@@ -156,7 +152,7 @@ TEST(RunCli, KilledAnywhereAndResumedGivesTheUninterruptedResult) {
 
 TEST(RunCli, ATruncatedOrCorruptCheckpointIsBadInputNotACrashOrARestart) {
   test::TempDir dir;
-  ASSERT_TRUE(SynthBoxImages(dir, ""));
+  ASSERT_TRUE(SynthBoxImages(dir.path(), ""));
   const fs::path out = dir / "out";
   ASSERT_EQ(RunCommand(SmallRun(dir, 20) + " -o " + Q(out)).exit_status, 0);
   const std::string checkpoint = test::ReadText(out / "checkpoint.json");
@@ -177,7 +173,7 @@ TEST(RunCli, ATruncatedOrCorruptCheckpointIsBadInputNotACrashOrARestart) {
 
 TEST(RunCli, CamerasThatSeeNothingAreRefusedWithAReason) {
   test::TempDir dir;
-  ASSERT_TRUE(SynthBoxImages(dir, ""));
+  ASSERT_TRUE(SynthBoxImages(dir.path(), ""));
   // Move the whole scene 100 m away from every camera.
   const auto r = RunCommand(SmallRun(dir) + " --set 'nodes[0].transforms=[{\"translate\": [100, 0, 0]}, {\"scale\": [5, 5, 1]}]'"
                             " --set 'nodes[1].transforms=[{\"translate\": [\"x+100\", \"y\", 0]}, {\"rotate\": [0, 0, \"yaw\"]}, {\"scale\": [\"w\", \"d\", \"h\"]}]'"
@@ -190,7 +186,7 @@ TEST(RunCli, ImagesThatShowNothingOfTheSceneEndWithADiagnosis) {
   // Noise of sd 120 drowns the box: whatever the sampler finds, the views disagree far
   // beyond camera noise, and the run must say so (exit 1) rather than report an answer.
   test::TempDir dir;
-  ASSERT_TRUE(SynthBoxImages(dir, " --noise 120"));
+  ASSERT_TRUE(SynthBoxImages(dir.path(), " --noise 120"));
   const auto r = RunCommand(SmallRun(dir) + " -o " + Q(dir / "out"));
   EXPECT_EQ(r.exit_status, 1) << r.err;
   EXPECT_NE(r.err.find("far beyond camera noise"), std::string::npos) << r.err;
@@ -201,7 +197,7 @@ TEST(RunCli, ImagesThatShowNothingOfTheSceneEndWithADiagnosis) {
 
 TEST(RunCli, BadSamplerOptionsAreBadInputNamingTheField) {
   test::TempDir dir;
-  ASSERT_TRUE(SynthBoxImages(dir, ""));
+  ASSERT_TRUE(SynthBoxImages(dir.path(), ""));
   const std::vector<std::pair<std::string, std::string>> cases = {
       {"sampler.bogus=1", "sampler.bogus: unknown option"},
       {"sampler.settle=3", "sampler.settle: expected true or false"},
@@ -220,7 +216,7 @@ TEST(RunCli, BadSamplerOptionsAreBadInputNamingTheField) {
 // run starts from the beginning, says so, and ends as a run started without --resume.
 TEST(RunCli, ResumeWithNothingToResumeStartsTheRunAndSaysSo) {
   test::TempDir dir;
-  ASSERT_TRUE(SynthBoxImages(dir, ""));
+  ASSERT_TRUE(SynthBoxImages(dir.path(), ""));
   const auto straight = RunCommand(SmallRun(dir, 20) + " -o " + Q(dir / "straight"));
   ASSERT_EQ(straight.exit_status, 0) << straight.err;
   const auto r = RunCommand(SmallRun(dir, 20) + " --resume -o " + Q(dir / "none"));

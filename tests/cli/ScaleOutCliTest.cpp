@@ -16,6 +16,7 @@
 #include <thread>
 
 #include "apps/DistributedTarget.h"
+#include "tests/cli/CliTestUtil.h"
 #include "tests/common/TestFiles.h"
 
 namespace vkr {
@@ -23,6 +24,7 @@ namespace {
 
 namespace fs = std::filesystem;
 using test::RunCommand;
+using test::SynthBoxImages;
 
 const std::string kVkrecon = VKRECON_BINARY;
 const fs::path kBox = fs::path(VKRECON_SOURCE_DIR) / "assets/box";
@@ -46,11 +48,6 @@ std::string BoxRun(const fs::path& dir, int iterations = 40) {
          " --set sampler.chains=4 --set sampler.batch=8 --checkpoint-seconds 0.05";
 }
 
-bool SynthBoxImages(const fs::path& dir) {
-  return RunCommand(kVkrecon + " synth -q " + Q(kBox / "scene.json") + " --at " + Q(kBox / "truth.json") +
-                    " --scale 0.25 --noise 8 -o " + Q(dir / "images"))
-             .exit_status == 0;
-}
 
 TEST(ScaleOut, SlicesAreContiguousAndBalanced) {
   const app::Slices s = app::SliceBatch(10, 4);
@@ -65,7 +62,7 @@ TEST(ScaleOut, SlicesAreContiguousAndBalanced) {
 
 TEST(ScaleOut, RanksGiveTheOneProcessResultBitForBit) {
   test::TempDir dir;
-  ASSERT_TRUE(SynthBoxImages(dir.path()));
+  ASSERT_TRUE(SynthBoxImages(dir.path(), " --noise 8"));
   const auto plain = RunCommand(BoxRun(dir.path()) + " -o " + Q(dir / "plain"));
   ASSERT_EQ(plain.exit_status, 0) << plain.err;
   const std::string map = test::ReadText(dir / "plain/map.json"), chain = test::ReadText(dir / "plain/chain.csv");
@@ -102,7 +99,7 @@ int RankPid(int parent, int rank) {
 
 TEST(ScaleOut, KilledRankEndsTheJobAndResumeFinishesTheSameRun) {
   test::TempDir dir;
-  ASSERT_TRUE(SynthBoxImages(dir.path()));
+  ASSERT_TRUE(SynthBoxImages(dir.path(), " --noise 8"));
   const auto plain = RunCommand(BoxRun(dir.path(), 60) + " -o " + Q(dir / "plain"));
   ASSERT_EQ(plain.exit_status, 0) << plain.err;
 
@@ -165,7 +162,7 @@ nlohmann::json ReadMap(const fs::path& file) { return nlohmann::json::parse(std:
 
 TEST(ManyScenes, AFolderOfScenesRunsEachIntoItsOwnFolderWithASummary) {
   test::TempDir dir;
-  ASSERT_TRUE(SynthBoxImages(dir.path()));
+  ASSERT_TRUE(SynthBoxImages(dir.path(), " --noise 8"));
   const fs::path scenes = WriteTwoScenes(dir.path());
   const auto listed = RunCommand(kVkrecon + " run -q " + Q(scenes) + " -o " + Q(dir / "out"));
   ASSERT_EQ(listed.exit_status, 0) << listed.err;
