@@ -475,7 +475,9 @@ ReconstructResult Reconstruct(const ReconstructOptions& options, vk::Device& dev
                                      {"weights", scene.likelihood.weights}, {"atlas", scene.likelihood.atlas},
                                      {"levels", scene.likelihood.levels},
                                      {"photometric", scene.likelihood.photometric},
-                                     {"clutter", scene.likelihood.clutter}}},
+                                     {"clutter", scene.likelihood.clutter},
+                                     {"partners", scene.likelihood.partners},
+                                     {"partner_ranking", scene.likelihood.partner_ranking}}},
                      {"sampler", opt::ToJson(sampler->options())},
                      {"time_limit", time_limit}};
   for (const SceneOverride& o : options.overrides) map["settings"]["overrides"].push_back(o.path + "=" + o.value);

@@ -133,6 +133,11 @@ struct LikelihoodSettings {
   // Mask what the photographs show that the scene leaves out, found at the mode a run
   // settles on (pipelines/likelihood/ClutterMasks.h).
   bool clutter = true;
+  // The image-space likelihood only (docs/IMAGE_SPACE.md): 0 compares every ordered camera
+  // pair; k > 0 each target camera with its k best sources, ranked by `partner_ranking`
+  // ("distance": nearest centres, "direction": most similar optical axes).
+  int partners = 0;
+  std::string partner_ranking = "distance";
 };
 
 // sampler.time_limit's default: a run a user starts at a desk ends within minutes on a CPU

@@ -73,7 +73,8 @@ bool IsWord(const Reader& r, const Json& j, const std::string& path, const char*
 
 void ReadLikelihood(const Reader& r, const Json& j, LikelihoodSettings& s) {
   const std::string path = "likelihood";
-  r.CheckObject(j, path, {"kind", "sigma", "weights", "atlas", "levels", "photometric", "clutter"});
+  r.CheckObject(j, path,
+                {"kind", "sigma", "weights", "atlas", "levels", "photometric", "clutter", "partners", "partner_ranking"});
   if (auto it = j.find("kind"); it != j.end()) {
     s.kind = r.String(*it, "likelihood.kind");
     if (s.kind != "surface" && s.kind != "image")
@@ -112,6 +113,14 @@ void ReadLikelihood(const Reader& r, const Json& j, LikelihoodSettings& s) {
   if (auto it = j.find("clutter"); it != j.end()) {
     if (!it->is_boolean()) r.Fail("likelihood.clutter", "expected true or false");
     s.clutter = it->get<bool>();
+  }
+  // Whether k exceeds the other cameras is checked where the cameras are known
+  // (ImageLikelihoodOptions::FromScene).
+  if (auto it = j.find("partners"); it != j.end()) s.partners = int(r.Integer(*it, "likelihood.partners", 0, INT_MAX));
+  if (auto it = j.find("partner_ranking"); it != j.end()) {
+    s.partner_ranking = r.String(*it, "likelihood.partner_ranking");
+    if (s.partner_ranking != "distance" && s.partner_ranking != "direction")
+      r.Fail("likelihood.partner_ranking", "unknown ranking '" + s.partner_ranking + "' (distance, direction)");
   }
 }
 

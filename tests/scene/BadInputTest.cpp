@@ -259,6 +259,12 @@ TEST(BadInput, VersionAndSettings) {
   EXPECT_TRUE(LoadFails(dir, scene, {"likelihood.levels"}));
   scene["likelihood"] = Json{{"kind", "volume"}};
   EXPECT_TRUE(LoadFails(dir, scene, {"likelihood.kind", "unknown kind 'volume'"}));
+  scene["likelihood"] = Json{{"partners", -1}};
+  EXPECT_TRUE(LoadFails(dir, scene, {"likelihood.partners"}));
+  scene["likelihood"] = Json{{"partners", 1.5}};
+  EXPECT_TRUE(LoadFails(dir, scene, {"likelihood.partners", "integer"}));
+  scene["likelihood"] = Json{{"partner_ranking", "closest"}};
+  EXPECT_TRUE(LoadFails(dir, scene, {"likelihood.partner_ranking", "unknown ranking 'closest'"}));
   scene.erase("likelihood");
   scene["synth"] = Json{{"sun", {0, 95}}};
   EXPECT_TRUE(LoadFails(dir, scene, {"synth.sun[1]", "must be in (0, 90]"}));
