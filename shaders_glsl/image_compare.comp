@@ -1,7 +1,7 @@
 #version 460
 // Image-space likelihood (thesis §4.4), first level of the reduction: per pixel the sum over
-// camera pairs of the warp pass's results (one layer per ordered pair (s, t)), then one
-// partial sum per workgroup. reduce.comp sums the partials per hypothesis. A workgroup is
+// the warp pass's results (one layer per warp draw: a target t and a group of its sources,
+// each pixel already summed over the group), then one partial sum per workgroup. reduce.comp sums the partials per hypothesis. A workgroup is
 // one subgroup (as composite.comp): each invocation sums a column of kRows pixels, then
 // the subgroup adds its lanes.
 //   sum_squares = σ² Σ χ²  over compared pixel pairs       dof = 3 per compared pair
@@ -13,16 +13,18 @@
 #include "subgroup_reduction.glsl"
 
 layout(local_size_x_id = 0, local_size_y = 1) in;
-// The number of camera pairs, fixed when the pipeline is made (ImageComparePass.cpp): a
-// loop the driver can unroll, as in composite.comp.
-layout(constant_id = 1) const uint kPairs = 1u;
+// The number of layers, fixed when the pipeline is made (ImageComparePass.cpp): a loop the
+// driver can unroll, as in composite.comp.
+layout(constant_id = 1) const uint kLayers = 1u;
 
-layout(set = 0, binding = 0, r32f) uniform readonly image2DArray results;
-layout(std430, set = 0, binding = 1) readonly buffer PairSizes { uvec2 sizes[]; };
+// r: Σ χ² over the layer's compared pixel pairs, g: their count, b: pixel pairs where only t
+// sees the point (image_warp.glsl).
+layout(set = 0, binding = 0, rgba32f) uniform readonly image2DArray results;
+layout(std430, set = 0, binding = 1) readonly buffer LayerSizes { uvec2 sizes[]; };
 layout(std430, set = 0, binding = 2) writeonly buffer Partials { Scalars partials[]; };
 
 layout(push_constant) uniform Push {
-  uint size_offset;     // first of this level's sizes[] (one per pair: t's image at the level)
+  uint size_offset;     // first of this level's sizes[] (one per layer: t's image at the level)
   uint partial_offset;  // first partial of this hypothesis
   float sigma2;         // σ² on the [0,1] colour scale
 } pc;
@@ -33,16 +35,13 @@ const uint kRows = 16u;
 Scalars ComparePixel(uvec2 pixel) {
   float chi2 = 0.0;
   uint compared = 0u, once = 0u;
-  for (uint p = 0u; p < kPairs; ++p) {
-    const uvec2 size = sizes[pc.size_offset + p];
+  for (uint l = 0u; l < kLayers; ++l) {
+    const uvec2 size = sizes[pc.size_offset + l];
     if (pixel.x >= size.x || pixel.y >= size.y) continue;
-    const float v = imageLoad(results, ivec3(pixel, p)).r;
-    if (v >= 0.0) {
-      chi2 += v;
-      ++compared;
-    } else if (v > -1.5) {
-      ++once;
-    }
+    const vec4 v = imageLoad(results, ivec3(pixel, l));
+    chi2 += v.r;
+    compared += uint(v.g);
+    once += uint(v.b);
   }
   return Scalars(chi2 * pc.sigma2, 3.0 * float(compared), 0.0, 0.0, compared, once, 0u, 0u, 0u, 0u, 0u, 0u);
 }

@@ -1,5 +1,5 @@
 // Push constants and per-camera records of the image-space warp pass (thesis §4.2–4.3);
-// pipelines/passes/PairWarpPass.cpp mirrors both.
+// pipelines/passes/TargetWarpPass.cpp mirrors both.
 
 // One camera of one hypothesis (std430: 80 bytes).
 struct WarpCamera {
@@ -10,10 +10,14 @@ struct WarpCamera {
 layout(std430, set = 0, binding = 0) readonly buffer NodeMatrices { mat4 world_from_node[]; };
 layout(std430, set = 0, binding = 1) readonly buffer Cameras { WarpCamera cameras[]; };
 
+// The most sources one draw compares with its target (TargetWarpPass::kMaxSources): each
+// carries a vec4 varying, and lavapipe interpolates 32 vec4s at most.
+const uint kMaxSources = 8u;
+
 layout(push_constant) uniform Push {
   uint node_offset;
-  uint source;                   // cameras[] index of s (the hypothesis's slot included)
-  uint target;                   // cameras[] index of t
+  uint target;                   // cameras[] index of t (the hypothesis's slot included)
+  uint source_count;             // sources of this draw, ≤ kMaxSources
   float level;                   // pyramid level
   float inv_sigma2;              // 1 / σ² on the [0,1] colour scale
   float cap;                     // per-dof cap of a pixel pair's χ² (3 dof per pair)
@@ -21,4 +25,5 @@ layout(push_constant) uniform Push {
   float depth_tolerance;         // relative tolerance of the shadow-map test in s
   float near;                    // near plane (Projection.h)
   float depth_equal;             // relative slack of the depth-equal test against t's depth map
+  uint sources[kMaxSources];     // cameras[] index of each source s
 } pc;

@@ -15,7 +15,7 @@
 #include "pipelines/passes/GpuScene.h"
 #include "pipelines/passes/HalfFloat.h"
 #include "pipelines/passes/ImageComparePass.h"
-#include "pipelines/passes/PairWarpPass.h"
+#include "pipelines/passes/TargetWarpPass.h"
 #include "pipelines/likelihood/MemoryPlan.h"
 #include "pipelines/likelihood/ReferenceImages.h"
 #include "pipelines/passes/Projection.h"
@@ -75,6 +75,14 @@ ImageLikelihoodOptions ImageLikelihoodOptions::FromScene(const Scene& scene) {
   o.model.sigma = scene.likelihood.sigma;
   o.levels = ResolvedLikelihood(scene).levels;
   o.max_batch = scene.sampler.batch;
+  o.partners = scene.likelihood.partners;
+  const int others = int(scene.cameras.size()) - 1;
+  if (o.partners > others)
+    throw InputError(scene.file.string(), "likelihood.partners",
+                     std::to_string(o.partners) + " partners, but each camera has " + std::to_string(others) +
+                         " others (0 compares all pairs)");
+  if (!FromString(scene.likelihood.partner_ranking, &o.ranking))
+    throw InputError(scene.file.string(), "likelihood.partner_ranking", "must be distance or direction");
   return o;
 }
 
@@ -84,10 +92,34 @@ constexpr int kImageTimestamps = 4;  // start, depth, warp, compare
 // The atlas is the surface likelihood's; image space only needs the geometry.
 constexpr int kImageUnusedAtlas = 1024;
 
-
 }  // namespace
 
 struct ImageLikelihood::Impl {
+  // One draw of the warp pass: a target and some of its sources.
+  struct WarpGroup {
+    int target = 0;
+    std::vector<int> sources;
+  };
+
+  // `pairs` (grouped by target, as SelectPairs makes them) as draws of at most `most`
+  // sources, a target's sources split evenly over as few draws as take them all.
+  static std::vector<WarpGroup> GroupPairs(const std::vector<CameraPair>& pairs, int most) {
+    std::vector<WarpGroup> groups;
+    for (size_t first = 0; first < pairs.size();) {
+      size_t end = first;
+      while (end < pairs.size() && pairs[end].target == pairs[first].target) ++end;
+      const int count = int(end - first), draws = (count + most - 1) / most;
+      for (int d = 0; d < draws; ++d) {
+        WarpGroup group{pairs[first].target, {}};
+        for (size_t p = first + size_t(count * d / draws); p < first + size_t(count * (d + 1) / draws); ++p)
+          group.sources.push_back(pairs[p].source);
+        groups.push_back(std::move(group));
+      }
+      first = end;
+    }
+    return groups;
+  }
+
   // One camera's images on the GPU.
   struct CameraImages {
     vk::GpuImage reference;           // RGBA8, encoded colour, mip m = pyramid level m, alpha = |∇I|
@@ -104,11 +136,14 @@ struct ImageLikelihood::Impl {
   vk::CommandContext context;
   GpuScene gpu_scene;
   std::vector<CameraPair> pairs;
+  std::vector<WarpGroup> groups;
   std::vector<CameraImages> cameras;
-  vk::GpuImage results, synthetic;  // one layer per pair; `synthetic` made by the first dump
-  std::vector<vk::ImageView> result_layers, synthetic_layers;
+  vk::GpuImage results;  // one layer per group
+  // One layer per pair, made by the first dump: each pair drawn alone, for its own images.
+  vk::GpuImage pair_results, synthetic;
+  std::vector<vk::ImageView> result_layers, pair_result_layers, synthetic_layers;
   DepthPass depth_pass;
-  std::unique_ptr<PairWarpPass> warp_pass;
+  std::unique_ptr<TargetWarpPass> warp_pass;
   std::unique_ptr<ImageComparePass> compare_pass;
   std::unique_ptr<vk::TimestampQueries> timestamps;
   int level = 0;
@@ -131,7 +166,23 @@ struct ImageLikelihood::Impl {
         context(d),
         gpu_scene(d, transfer, geometry, o.max_batch),
         pairs(SelectPairs(s.Cameras(s.InitialValues()), o.partners, o.ranking)),
+        groups(GroupPairs(pairs, TargetWarpPass::kMaxSources)),
         depth_pass(d, gpu_scene) {}
+
+  // Image sets of the warp pass: per group and level, then per pair and level (dumps).
+  int GroupBinding(size_t group, int l) const { return int(group) * options.levels + l; }
+  int PairBinding(size_t pair, int l) const { return int(groups.size() + pair) * options.levels + l; }
+
+  TargetWarpPass::Target WarpTarget(int camera, VkImageView result, VkImageView synthetic_view) const {
+    const CameraImages& target = cameras[size_t(camera)];
+    TargetWarpPass::Target out;
+    out.depth = target.depth[size_t(level)].view();
+    out.result = result;
+    out.synthetic = synthetic_view;
+    out.width = target.size[size_t(level)].width;
+    out.height = target.size[size_t(level)].height;
+    return out;
+  }
 
   void Timestamp(VkCommandBuffer cmd, uint32_t index) const {
     if (!timestamps) return;
@@ -159,36 +210,36 @@ struct ImageLikelihood::Impl {
                        VK_ACCESS_2_SHADER_SAMPLED_READ_BIT | VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_READ_BIT);
     }
     Timestamp(cmd, ts + 1);
-    // The previous hypothesis's compare pass read the results: write after read. (A dump's
-    // synthetic images were last read by a fenced copy.)
+    // The previous hypothesis's compare pass read the results: write after read.
     vk::ImageBarrier(cmd, results, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL,
                      VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, 0, VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT,
                      VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT);
-    if (dump)
-      vk::ImageBarrier(cmd, synthetic, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL,
-                       VK_PIPELINE_STAGE_2_NONE, 0, VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT,
-                       VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT);
-    for (size_t p = 0; p < pairs.size(); ++p) {
-      const CameraPair& pair = pairs[p];
-      const Impl::CameraImages& target = cameras[size_t(pair.target)];
-      PairWarpPass::Target out;
-      out.depth = target.depth[size_t(level)].view();
-      out.result = result_layers[p];
-      out.synthetic = dump ? VkImageView(synthetic_layers[p]) : VK_NULL_HANDLE;
-      out.width = target.size[size_t(level)].width;
-      out.height = target.size[size_t(level)].height;
-      warp_pass->record(cmd, slot, pair.source, pair.target, level, int(p) * options.levels + level, out);
-    }
+    for (size_t g = 0; g < groups.size(); ++g)
+      warp_pass->record(cmd, slot, level, GroupBinding(g, level),
+                        WarpTarget(groups[g].target, result_layers[g], VK_NULL_HANDLE));
+    if (dump) RecordPairs(cmd, slot);
     Timestamp(cmd, ts + 2);
     vk::ImageBarrier(cmd, results, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, VK_IMAGE_LAYOUT_GENERAL,
                      VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT, VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT,
                      VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
-    if (dump)
-      vk::ImageBarrier(cmd, synthetic, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, VK_IMAGE_LAYOUT_GENERAL,
-                       VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT, VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT,
-                       VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_MEMORY_READ_BIT);
     compare_pass->record(cmd, slot, level, options.model.sigma);
     Timestamp(cmd, ts + 3);
+  }
+
+  // A dump's per-pair images: every pair drawn alone into its own layers, after (and apart
+  // from) the groups' draws, so that the evaluation does not depend on whether it dumps.
+  void RecordPairs(VkCommandBuffer cmd, int slot) const {
+    for (const vk::GpuImage* image : {&pair_results, &synthetic})
+      vk::ImageBarrier(cmd, *image, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL,
+                       VK_PIPELINE_STAGE_2_NONE, 0, VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT,
+                       VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT);
+    for (size_t p = 0; p < pairs.size(); ++p)
+      warp_pass->record(cmd, slot, level, PairBinding(p, level),
+                        WarpTarget(pairs[p].target, pair_result_layers[p], synthetic_layers[p]));
+    for (const vk::GpuImage* image : {&pair_results, &synthetic})
+      vk::ImageBarrier(cmd, *image, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, VK_IMAGE_LAYOUT_GENERAL,
+                       VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT, VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT,
+                       VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_MEMORY_READ_BIT);
   }
 
   std::vector<Evaluation> Run(const std::vector<std::vector<double>>& batch, bool dump) {
@@ -247,31 +298,34 @@ ImageLikelihood::ImageLikelihood(vk::Device& device, const Scene& scene, const I
     m.cameras.push_back(std::move(images));
   }
 
-  const uint32_t pair_count = uint32_t(m.pairs.size());
-  m.results = vk::GpuImage(device, {max_width, max_height, pair_count, PairWarpPass::kResultFormat,
-                                    VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_STORAGE_BIT |
-                                        VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
-                                    true});
-  for (uint32_t p = 0; p < pair_count; ++p) m.result_layers.push_back(vk::CreateLayerView(device, m.results, p));
+  const uint32_t group_count = uint32_t(m.groups.size()), pair_count = uint32_t(m.pairs.size());
+  m.results = vk::GpuImage(device, {max_width, max_height, group_count, TargetWarpPass::kResultFormat,
+                                    VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_STORAGE_BIT, true});
+  for (uint32_t g = 0; g < group_count; ++g) m.result_layers.push_back(vk::CreateLayerView(device, m.results, g));
 
-  PairWarpPass::NoiseModel noise;
+  TargetWarpPass::NoiseModel noise;
   noise.sigma_255 = options.model.sigma;
   noise.robust_cap = options.model.robust_cap;
   noise.position_sd = options.position_sd;
   noise.depth_tolerance = options.depth_tolerance;
-  m.warp_pass = std::make_unique<PairWarpPass>(device, m.gpu_scene, n, options.max_batch,
-                                               int(pair_count) * levels, noise);
-  std::vector<std::vector<VkExtent2D>> pair_sizes(static_cast<size_t>(levels));
-  for (uint32_t p = 0; p < pair_count; ++p) {
-    const Impl::CameraImages& source = m.cameras[size_t(m.pairs[p].source)];
-    const Impl::CameraImages& target = m.cameras[size_t(m.pairs[p].target)];
-    for (int l = 0; l < levels; ++l) {
-      m.warp_pass->BindImages(int(p) * levels + l, source.reference.view(), source.depth[size_t(l)].view(),
-                              target.reference.view(), source.validity.view(), target.validity.view());
-      pair_sizes[size_t(l)].push_back(target.size[size_t(l)]);
+  m.warp_pass = std::make_unique<TargetWarpPass>(device, m.gpu_scene, n, options.max_batch,
+                                                 int(group_count + pair_count) * levels, noise);
+  auto views = [&](int camera, int l) {
+    const Impl::CameraImages& c = m.cameras[size_t(camera)];
+    return TargetWarpPass::CameraViews{camera, c.reference.view(), c.depth[size_t(l)].view(), c.validity.view()};
+  };
+  std::vector<std::vector<VkExtent2D>> layer_sizes(static_cast<size_t>(levels));
+  for (int l = 0; l < levels; ++l) {
+    for (size_t g = 0; g < group_count; ++g) {
+      std::vector<TargetWarpPass::CameraViews> sources;
+      for (int s : m.groups[g].sources) sources.push_back(views(s, l));
+      m.warp_pass->BindImages(m.GroupBinding(g, l), views(m.groups[g].target, l), sources, false);
+      layer_sizes[size_t(l)].push_back(m.cameras[size_t(m.groups[g].target)].size[size_t(l)]);
     }
+    for (size_t p = 0; p < pair_count; ++p)
+      m.warp_pass->BindImages(m.PairBinding(p, l), views(m.pairs[p].target, l), {views(m.pairs[p].source, l)}, true);
   }
-  m.compare_pass = std::make_unique<ImageComparePass>(device, m.results, pair_sizes, options.max_batch);
+  m.compare_pass = std::make_unique<ImageComparePass>(device, m.results, layer_sizes, options.max_batch);
   if (options.profile)
     m.timestamps = std::make_unique<vk::TimestampQueries>(
         device, uint32_t(options.max_batch * kImageTimestamps + 1));
@@ -305,36 +359,37 @@ std::vector<Evaluation> ImageLikelihood::Evaluate(const std::vector<std::vector<
 ImageDump ImageLikelihood::EvaluateAndDump(const std::vector<double>& psi, Evaluation* evaluation) {
   Impl& m = *impl_;
   const uint32_t pair_count = uint32_t(m.pairs.size());
+  const uint32_t width = m.results.info().width, height = m.results.info().height;
   if (!m.synthetic.handle()) {
     // A diagnostic, not the sampling loop: made once, by the first dump.
-    m.synthetic = vk::GpuImage(*m.device, {m.results.info().width, m.results.info().height, pair_count,
-                                           PairWarpPass::kSyntheticFormat,
-                                           VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
-                                           true});
-    for (uint32_t p = 0; p < pair_count; ++p)
+    constexpr VkImageUsageFlags kUsage = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
+    m.pair_results = vk::GpuImage(*m.device, {width, height, pair_count, TargetWarpPass::kResultFormat, kUsage, true});
+    m.synthetic = vk::GpuImage(*m.device, {width, height, pair_count, TargetWarpPass::kSyntheticFormat, kUsage, true});
+    for (uint32_t p = 0; p < pair_count; ++p) {
+      m.pair_result_layers.push_back(vk::CreateLayerView(*m.device, m.pair_results, p));
       m.synthetic_layers.push_back(vk::CreateLayerView(*m.device, m.synthetic, p));
+    }
   }
   const Evaluation e = m.Run({psi}, true)[0];
   if (evaluation) *evaluation = e;
-  const int stride = int(m.results.info().width);
-  std::vector<float> results(size_t(m.results.info().width) * m.results.info().height);
-  std::vector<uint16_t> halves(results.size() * 4);
+  std::vector<float> results(size_t(width) * height * 4);
+  std::vector<uint16_t> halves(results.size());
   ImageDump dump;
   for (uint32_t p = 0; p < pair_count; ++p) {
     const VkExtent2D size = m.cameras[size_t(m.pairs[p].target)].size[size_t(m.level)];
-    m.transfer.ReadImage(m.results, p, VK_IMAGE_LAYOUT_GENERAL, results.data());
+    m.transfer.ReadImage(m.pair_results, p, VK_IMAGE_LAYOUT_GENERAL, results.data());
     m.transfer.ReadImage(m.synthetic, p, VK_IMAGE_LAYOUT_GENERAL, halves.data());
     ImagePairDump d{m.pairs[p], Image(int(size.width), int(size.height)), Image(int(size.width), int(size.height))};
     for (int y = 0; y < int(size.height); ++y)
       for (int x = 0; x < int(size.width); ++x) {
-        const size_t i = size_t(y) * stride + x;
+        const size_t i = (size_t(y) * width + x) * 4;
         float* s = d.synthetic.At(x, y);
-        for (int c = 0; c < 4; ++c) s[c] = HalfToFloat(halves[i * 4 + c]);
-        const float v = results[i];
+        for (int c = 0; c < 4; ++c) s[c] = HalfToFloat(halves[i + c]);
+        // One source per draw: g is 1 where it compared, b 1 where only t sees the point.
         float* c = d.consistency.At(x, y);
-        c[0] = std::max(v, 0.0f);
-        c[1] = v >= 0.0f ? 3.0f : 0.0f;
-        c[3] = v > -1.5f ? 1.0f : 0.0f;
+        c[0] = results[i];
+        c[1] = 3.0f * results[i + 1];
+        c[3] = results[i + 3];
       }
     dump.pairs.push_back(std::move(d));
   }

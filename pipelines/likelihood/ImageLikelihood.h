@@ -1,10 +1,11 @@
 #pragma once
 // The image-space photo-consistency likelihood (DESIGN.md "Image-space likelihood"; thesis
 // §4), assembled from passes: per camera a depth pass (DepthPass, shared with the surface
-// likelihood), per ordered camera pair (s, t) a warp pass that renders the hypothesis from t,
-// textures it with r_s through a shadow-map test from s (the synthetic image s_{s,t}) and
-// writes the per-pixel χ² of r_t against it (PairWarpPass), and a reduction to the same
-// ReducedScalars as the surface likelihood (ImageComparePass), scored by the same Score():
+// likelihood), per target camera t a warp pass that renders the hypothesis from t, textures
+// it with each source r_s through a shadow-map test from s (the synthetic images s_{s,t}) and
+// writes per pixel the sum over sources of the χ² of r_t against them (TargetWarpPass, up to
+// 8 sources per draw), and a reduction to the same ReducedScalars as the surface likelihood
+// (ImageComparePass), scored by the same Score():
 //
 //   sum_squares = σ² Σ_{(s,t)} Σ_{pixels p of t seen by s} min(χ²_p, 3·cap)
 //   dof         = 3 · seen_multi        (a pixel pair's χ² has 3 degrees of freedom)
@@ -21,7 +22,7 @@
 //
 // Everything is allocated when the likelihood is created (the per-pair images of a dump on
 // the first dump). Evaluate() writes the batch's node matrices and cameras into host-visible
-// buffers, records all K hypotheses × P pairs into one command buffer, submits once, waits
+// buffers, records all K hypotheses × N targets into one command buffer, submits once, waits
 // on one fence and reads back K small structs.
 
 #include <map>
@@ -58,8 +59,9 @@ struct ImageLikelihoodOptions {
   // σ, the χ² correction (§7.4) and the robust cap; `unseen_penalty` has no effect here
   // (seen_none is always 0).
   LikelihoodModel model;
-  // 0: compare every ordered pair (N(N−1) warp passes per hypothesis); k > 0: each target
-  // with its k best partners only (N·k passes). Not (yet) a scene-file field.
+  // 0: compare every ordered pair (N(N−1) pixel pairs per pixel of the views); k > 0: each
+  // target with its k best partners only (N·k). Scene: likelihood.partners and
+  // likelihood.partner_ranking.
   int partners = 0;
   PartnerRanking ranking = PartnerRanking::Distance;
   int levels = 3;        // image pyramid levels built at creation
@@ -71,8 +73,9 @@ struct ImageLikelihoodOptions {
   bool profile = false;  // GPU timestamps around every pass (see LastPassTimesMs)
 
   bool IsValid(std::string* why) const;
-  // Reads σ and levels from the scene's "likelihood" settings (atlas and weights are the
-  // surface likelihood's and are ignored) and max_batch from sampler.batch.
+  // Reads σ, levels, partners and their ranking from the scene's "likelihood" settings
+  // (atlas and weights are the surface likelihood's and are ignored) and max_batch from
+  // sampler.batch. Throws InputError for more partners than a camera has.
   static ImageLikelihoodOptions FromScene(const Scene& scene);
 };
 

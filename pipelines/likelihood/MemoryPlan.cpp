@@ -8,6 +8,7 @@
 #include "engine/scene/Scene.h"
 #include "engine/vk/Device.h"
 #include "pipelines/likelihood/ImageLikelihood.h"
+#include "pipelines/passes/TargetWarpPass.h"
 #include "pipelines/likelihood/SurfaceLikelihood.h"
 
 namespace vkr {
@@ -126,16 +127,19 @@ MemoryPlan PlanImageLikelihood(const Scene& scene, const ImageLikelihoodOptions&
   PlanCameras(scene, options.levels, &plan);
   const uint64_t n = scene.cameras.size();
   const uint64_t partners = options.partners <= 0 || uint64_t(options.partners) >= n - 1 ? n - 1 : uint64_t(options.partners);
-  const uint64_t pairs = n * partners;
+  // One warp draw per target and up to kMaxSources of its partners (ImageLikelihood.cpp).
+  const uint64_t most = TargetWarpPass::kMaxSources;
+  const uint64_t groups = n * CeilDiv(partners, most);
   uint64_t w = 1, h = 1;
   for (const CameraModel& c : scene.cameras) {
     w = std::max<uint64_t>(w, uint64_t(c.width));
     h = std::max<uint64_t>(h, uint64_t(c.height));
   }
-  plan.device.push_back({"pair results " + std::to_string(pairs) + " × " + Times(w, h) + " × 4 B", pairs * w * h * 4});
+  plan.device.push_back({"warp results " + std::to_string(groups) + " × " + Times(w, h) + " × 16 B", groups * w * h * 16});
   const uint64_t k = uint64_t(options.max_batch);
-  const uint64_t groups = CeilDiv(w, std::max<uint32_t>(1, subgroup_size)) * CeilDiv(h, kRowsPerInvocation);
-  plan.device.push_back({"compare partial sums " + Times(k, groups) + " × 48 B", k * groups * kScalarsBytes, true});
+  const uint64_t workgroups = CeilDiv(w, std::max<uint32_t>(1, subgroup_size)) * CeilDiv(h, kRowsPerInvocation);
+  plan.device.push_back(
+      {"compare partial sums " + Times(k, workgroups) + " × 48 B", k * workgroups * kScalarsBytes, true});
   PlanNodes(scene, options.max_batch, false, &plan);
   return plan;
 }

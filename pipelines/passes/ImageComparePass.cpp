@@ -24,12 +24,12 @@ VkDescriptorSetLayoutBinding CompareBinding(uint32_t b, VkDescriptorType type) {
 }  // namespace
 
 ImageComparePass::ImageComparePass(vk::Device& device, const vk::GpuImage& results,
-                                   const std::vector<std::vector<VkExtent2D>>& pair_sizes, int max_batch)
-    : pair_count_(results.info().layers), lanes_(device.subgroup_size()) {
-  if (pair_sizes.empty()) throw std::invalid_argument("ImageComparePass: no levels");
+                                   const std::vector<std::vector<VkExtent2D>>& layer_sizes, int max_batch)
+    : layer_count_(results.info().layers), lanes_(device.subgroup_size()) {
+  if (layer_sizes.empty()) throw std::invalid_argument("ImageComparePass: no levels");
   std::vector<uint32_t> sizes;
-  for (const std::vector<VkExtent2D>& level : pair_sizes) {
-    if (level.size() != pair_count_) throw std::invalid_argument("ImageComparePass: one size per pair and level");
+  for (const std::vector<VkExtent2D>& level : layer_sizes) {
+    if (level.size() != layer_count_) throw std::invalid_argument("ImageComparePass: one size per layer and level");
     VkExtent2D largest{0, 0};
     for (const VkExtent2D& e : level) {
       largest.width = std::max(largest.width, e.width);
@@ -60,7 +60,7 @@ ImageComparePass::ImageComparePass(vk::Device& device, const vk::GpuImage& resul
 
 
   const vk::ShaderModule compare = vk::CreateShaderModule(device, kImageCompareComp, sizeof(kImageCompareComp));
-  compare_pipeline_ = CreateSubgroupComputePipeline(device, compare, compare_layout_, {pair_count_});
+  compare_pipeline_ = CreateSubgroupComputePipeline(device, compare, compare_layout_, {layer_count_});
 }
 
 VkExtent2D ImageComparePass::Groups(int level) const {
@@ -71,7 +71,7 @@ VkExtent2D ImageComparePass::Groups(int level) const {
 
 void ImageComparePass::record(VkCommandBuffer cmd, int slot, int level, double sigma_255) const {
   const double sigma = sigma_255 / 255.0;
-  const ImageComparePush push{uint32_t(level) * pair_count_, uint32_t(slot) * reduce_->partial_stride(),
+  const ImageComparePush push{uint32_t(level) * layer_count_, uint32_t(slot) * reduce_->partial_stride(),
                          float(sigma * sigma)};
   vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, compare_pipeline_);
   vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, compare_layout_, 0, 1, &compare_set_, 0, nullptr);

@@ -216,10 +216,11 @@ void WriteUniformBuffer(const vk::Device& device, VkDescriptorSet set, uint32_t 
 namespace {
 
 void WriteImage(const vk::Device& device, VkDescriptorSet set, uint32_t binding, VkDescriptorType type,
-                const VkDescriptorImageInfo& info) {
+                const VkDescriptorImageInfo& info, uint32_t element = 0) {
   VkWriteDescriptorSet w{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
   w.dstSet = set;
   w.dstBinding = binding;
+  w.dstArrayElement = element;
   w.descriptorCount = 1;
   w.descriptorType = type;
   w.pImageInfo = &info;
@@ -229,8 +230,8 @@ void WriteImage(const vk::Device& device, VkDescriptorSet set, uint32_t binding,
 }  // namespace
 
 void WriteSampledImage(const vk::Device& device, VkDescriptorSet set, uint32_t binding,
-                       VkImageView view, VkSampler sampler, VkImageLayout layout) {
-  WriteImage(device, set, binding, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, {sampler, view, layout});
+                       VkImageView view, VkSampler sampler, VkImageLayout layout, uint32_t element) {
+  WriteImage(device, set, binding, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, {sampler, view, layout}, element);
 }
 
 void WriteStorageImage(const vk::Device& device, VkDescriptorSet set, uint32_t binding, VkImageView view) {

@@ -58,8 +58,9 @@ void WriteStorageBuffer(const vk::Device& device, VkDescriptorSet set, uint32_t 
                         const vk::Buffer& buffer);
 void WriteUniformBuffer(const vk::Device& device, VkDescriptorSet set, uint32_t binding,
                         const vk::Buffer& buffer);
+// `element`: the index within an arrayed binding.
 void WriteSampledImage(const vk::Device& device, VkDescriptorSet set, uint32_t binding,
-                       VkImageView view, VkSampler sampler, VkImageLayout layout);
+                       VkImageView view, VkSampler sampler, VkImageLayout layout, uint32_t element = 0);
 
 // A storage image in GENERAL layout.
 void WriteStorageImage(const vk::Device& device, VkDescriptorSet set, uint32_t binding, VkImageView view);

@@ -1,4 +1,4 @@
-#include "pipelines/passes/PairWarpPass.h"
+#include "pipelines/passes/TargetWarpPass.h"
 
 #include <cstring>
 #include <stdexcept>
@@ -21,8 +21,9 @@ static_assert(sizeof(WarpGpuCamera) == 80);
 
 // Mirrors the push constants in shaders_glsl/image_warp_push.glsl.
 struct WarpPush {
-  uint32_t node_offset, source, target;
+  uint32_t node_offset, target, source_count;
   float level, inv_sigma2, cap, position_sd_over_sigma, depth_tolerance, near, depth_equal;
+  uint32_t sources[TargetWarpPass::kMaxSources];
 };
 static_assert(sizeof(WarpPush) <= 128, "push constants beyond the guaranteed 128 bytes");
 
@@ -30,10 +31,29 @@ static_assert(sizeof(WarpPush) <= 128, "push constants beyond the guaranteed 128
 // surfaces, far above the rounding differences between depth.vert and image_warp.vert.
 constexpr float kWarpDepthEqual = 1e-5f;
 
+// The fields of a pipeline specialisation, packed into a key of TargetWarpPass::pipelines_.
+struct Specialisation {
+  uint32_t check_target = 0;   // image_warp.glsl's kCheckTarget
+  uint32_t check_sources = 0;  // kCheckSources: bit i for source i
+  uint32_t sources = 1;        // kSources
+  bool synthetic = false;      // image_warp_dump.frag
+
+  uint32_t Key() const {
+    return check_target | check_sources << 1 | sources << (1 + TargetWarpPass::kMaxSources) |
+           uint32_t(synthetic) << (5 + TargetWarpPass::kMaxSources);
+  }
+  static Specialisation FromKey(uint32_t key) {
+    constexpr uint32_t kSourceBits = (1u << TargetWarpPass::kMaxSources) - 1;
+    return {key & 1u, (key >> 1) & kSourceBits, (key >> (1 + TargetWarpPass::kMaxSources)) & 15u,
+            ((key >> (5 + TargetWarpPass::kMaxSources)) & 1u) != 0};
+  }
+};
+static_assert(TargetWarpPass::kMaxSources < 16, "kSources takes 4 bits of the key");
+
 }  // namespace
 
-PairWarpPass::PairWarpPass(vk::Device& device, const GpuScene& scene, int cameras, int hypothesis_slots,
-                           int bindings, const NoiseModel& noise)
+TargetWarpPass::TargetWarpPass(vk::Device& device, const GpuScene& scene, int cameras, int hypothesis_slots,
+                               int bindings, const NoiseModel& noise)
     : device_(&device),
       scene_(&scene),
       cameras_(cameras),
@@ -44,13 +64,14 @@ PairWarpPass::PairWarpPass(vk::Device& device, const GpuScene& scene, int camera
       trilinear_(vk::CreateTrilinearClampSampler(device)),
       nearest_(vk::CreateNearestClampSampler(device)) {
   constexpr VkShaderStageFlags kBoth = VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT;
+  constexpr uint32_t kSources = kMaxSources;
   const std::vector<VkDescriptorSetLayoutBinding> layout_bindings = {
       {0, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_VERTEX_BIT, nullptr},
       {1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, kBoth, nullptr},
-      {2, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr},
-      {3, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr},
+      {2, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, kSources, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr},
+      {3, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, kSources, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr},
       {4, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr},
-      {5, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr},
+      {5, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, kSources, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr},
       {6, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr},
   };
   set_layout_ = CreateDescriptorSetLayout(device, layout_bindings);
@@ -62,53 +83,61 @@ PairWarpPass::PairWarpPass(vk::Device& device, const GpuScene& scene, int camera
     WriteStorageBuffer(device, set, 0, scene.node_matrices());
     WriteStorageBuffer(device, set, 1, camera_buffer_);
   }
+  groups_.resize(size_t(bindings));
 
   vert_ = vk::CreateShaderModule(device, kImageWarpVert, sizeof(kImageWarpVert));
   frag_ = vk::CreateShaderModule(device, kImageWarpFrag, sizeof(kImageWarpFrag));
   dump_frag_ = vk::CreateShaderModule(device, kImageWarpDumpFrag, sizeof(kImageWarpDumpFrag));
-  checks_.assign(size_t(bindings), 0);
-  CreatePipelines(0);
 }
 
-void PairWarpPass::CreatePipelines(uint32_t checks) {
-  if (pipelines_[checks][0]) return;
+void TargetWarpPass::BindImages(int index, const CameraViews& target, const std::vector<CameraViews>& sources,
+                                bool synthetic) {
+  if (sources.empty() || int(sources.size()) > kMaxSources)
+    throw std::invalid_argument("TargetWarpPass::BindImages: 1 to " + std::to_string(kMaxSources) + " sources");
+  VkDescriptorSet set = sets_.at(size_t(index));
+  Group& group = groups_.at(size_t(index));
+  group.target = target.camera;
+  group.sources.clear();
+  Specialisation spec;
+  spec.check_target = target.validity ? 1u : 0u;
+  spec.sources = uint32_t(sources.size());
+  spec.synthetic = synthetic;
+  constexpr VkImageLayout kRead = VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL;
+  // A missing validity binds the reference in its place (a view at hand): never read. Array
+  // elements past the group's sources repeat its first: never read either, but bound, as
+  // validation wants every element of an arrayed binding the shader declares.
+  for (uint32_t i = 0; i < uint32_t(kMaxSources); ++i) {
+    const CameraViews& s = sources[i < sources.size() ? i : 0];
+    if (i < sources.size()) {
+      group.sources.push_back(s.camera);
+      if (s.validity) spec.check_sources |= 1u << i;
+    }
+    WriteSampledImage(*device_, set, 2, s.reference, trilinear_, kRead, i);
+    WriteSampledImage(*device_, set, 3, s.depth, nearest_, VK_IMAGE_LAYOUT_DEPTH_READ_ONLY_OPTIMAL, i);
+    WriteSampledImage(*device_, set, 5, s.validity ? s.validity : s.reference, trilinear_, kRead, i);
+  }
+  WriteSampledImage(*device_, set, 4, target.reference, trilinear_, kRead);
+  WriteSampledImage(*device_, set, 6, target.validity ? target.validity : target.reference, trilinear_, kRead);
+
+  group.specialisation = spec.Key();
+  if (pipelines_.count(group.specialisation)) return;
   GraphicsPipelineDesc desc;
   desc.vertex = vert_;
-  desc.fragment = frag_;
+  desc.fragment = synthetic ? dump_frag_ : frag_;
   desc.layout = layout_;
   desc.colour_formats = {kResultFormat};
+  if (synthetic) desc.colour_formats.push_back(kSyntheticFormat);
   desc.depth_format = VK_FORMAT_D32_SFLOAT;  // DepthPass::kFormat
   desc.depth_write = false;
   desc.depth_compare = VK_COMPARE_OP_GREATER_OR_EQUAL;  // reversed depth: the visible surface only
   desc.vertex_attributes = 0b01011;                     // position, normal, node
-  // image_warp.glsl's kCheckTarget and kCheckSource: a camera whose every pixel counts has
-  // no validity texture, and the pipelines for its pairs do not read one.
-  desc.fragment_constants = {checks & 1u, (checks >> 1) & 1u};
-  pipelines_[checks][0] = CreateGraphicsPipeline(*device_, desc);
-  desc.fragment = dump_frag_;
-  desc.colour_formats = {kResultFormat, kSyntheticFormat};
-  pipelines_[checks][1] = CreateGraphicsPipeline(*device_, desc);
+  desc.fragment_constants = {spec.check_target, spec.check_sources, spec.sources};
+  pipelines_[group.specialisation] = CreateGraphicsPipeline(*device_, desc);
 }
 
-void PairWarpPass::BindImages(int index, VkImageView source_reference, VkImageView source_depth,
-                              VkImageView target_reference, VkImageView source_validity,
-                              VkImageView target_validity) {
-  VkDescriptorSet set = sets_.at(size_t(index));
-  WriteSampledImage(*device_, set, 2, source_reference, trilinear_, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
-  WriteSampledImage(*device_, set, 3, source_depth, nearest_, VK_IMAGE_LAYOUT_DEPTH_READ_ONLY_OPTIMAL);
-  WriteSampledImage(*device_, set, 4, target_reference, trilinear_, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
-  // A missing validity binds the reference in its place (a view at hand): never read.
-  WriteSampledImage(*device_, set, 5, source_validity ? source_validity : source_reference, trilinear_,
-                    VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
-  WriteSampledImage(*device_, set, 6, target_validity ? target_validity : target_reference, trilinear_,
-                    VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
-  checks_.at(size_t(index)) = (target_validity ? 1u : 0u) | (source_validity ? 2u : 0u);
-  CreatePipelines(checks_[size_t(index)]);
-}
-
-void PairWarpPass::SetCameras(int slot, const std::vector<Camera>& cameras) {
+void TargetWarpPass::SetCameras(int slot, const std::vector<Camera>& cameras) {
   if (slot < 0 || slot >= slots_ || int(cameras.size()) != cameras_)
-    throw std::out_of_range("PairWarpPass::SetCameras: slot or camera count out of range");
+    throw std::out_of_range("TargetWarpPass::SetCameras: slot or camera count out of range");
   WarpGpuCamera* dst = camera_buffer_.data<WarpGpuCamera>() + size_t(slot) * cameras_;
   for (const Camera& camera : cameras) {
     Eigen::Map<Eigen::Matrix4f>(dst->clip_from_world) = ClipFromWorld(camera).cast<float>();
@@ -119,13 +148,17 @@ void PairWarpPass::SetCameras(int slot, const std::vector<Camera>& cameras) {
   }
 }
 
-void PairWarpPass::record(VkCommandBuffer cmd, int slot, int source, int target, int level, int binding,
-                          const Target& out) const {
+void TargetWarpPass::record(VkCommandBuffer cmd, int slot, int level, int binding, const Target& out) const {
+  const Group& group = groups_.at(size_t(binding));
+  const bool synthetic = Specialisation::FromKey(group.specialisation).synthetic;
+  if (synthetic != (out.synthetic != VK_NULL_HANDLE))
+    throw std::invalid_argument("TargetWarpPass::record: a synthetic image for, and only for, a set bound with one");
   const double sigma = noise_.sigma_255 / 255.0;
   WarpPush push{};
   push.node_offset = scene_->node_offset(slot);
-  push.source = uint32_t(slot * cameras_ + source);
-  push.target = uint32_t(slot * cameras_ + target);
+  push.target = uint32_t(slot * cameras_ + group.target);
+  push.source_count = uint32_t(group.sources.size());
+  for (size_t i = 0; i < group.sources.size(); ++i) push.sources[i] = uint32_t(slot * cameras_ + group.sources[i]);
   push.level = float(level);
   push.inv_sigma2 = float(1.0 / (sigma * sigma));
   push.cap = float(noise_.robust_cap);
@@ -137,15 +170,14 @@ void PairWarpPass::record(VkCommandBuffer cmd, int slot, int source, int target,
   VkRenderingAttachmentInfo colour[2] = {{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO},
                                          {VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO}};
   colour[0].imageView = out.result;
-  colour[0].clearValue.color = {{kNoSurface, 0.0f, 0.0f, 0.0f}};
   colour[1].imageView = out.synthetic;
   for (VkRenderingAttachmentInfo& c : colour) {
     c.imageLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
-    c.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
+    c.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;  // to 0: no surface
     c.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
   }
-  // t's depth map, read only: the depth pass wrote it, the shadow-map tests of other pairs
-  // sample it in the same layout.
+  // t's depth map, read only: the depth pass wrote it, the shadow-map tests of other
+  // targets' draws sample it in the same layout.
   VkRenderingAttachmentInfo depth{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
   depth.imageView = out.depth;
   depth.imageLayout = VK_IMAGE_LAYOUT_DEPTH_READ_ONLY_OPTIMAL;
@@ -154,12 +186,12 @@ void PairWarpPass::record(VkCommandBuffer cmd, int slot, int source, int target,
   VkRenderingInfo ri{VK_STRUCTURE_TYPE_RENDERING_INFO};
   ri.renderArea = {{0, 0}, {out.width, out.height}};
   ri.layerCount = 1;
-  ri.colorAttachmentCount = out.synthetic ? 2 : 1;
+  ri.colorAttachmentCount = synthetic ? 2 : 1;
   ri.pColorAttachments = colour;
   ri.pDepthAttachment = &depth;
   vkCmdBeginRendering(cmd, &ri);
   SetViewport(cmd, out.width, out.height);
-  vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipelines_[checks_.at(size_t(binding))][out.synthetic ? 1 : 0]);
+  vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipelines_.at(group.specialisation));
   vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_, 0, 1, &sets_.at(size_t(binding)), 0,
                           nullptr);
   vkCmdPushConstants(cmd, layout_, VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof(WarpPush),

@@ -6,9 +6,12 @@
 
 #include <cmath>
 #include <cstring>
+#include <fstream>
+#include <nlohmann/json.hpp>
 
 #include "engine/common/InputError.h"
 #include "pipelines/likelihood/ImageLikelihood.h"
+#include "pipelines/passes/TargetWarpPass.h"
 #include "pipelines/rendering/ViewRendering.h"
 #include "tests/common/GpuTest.h"
 #include "tests/common/TestFiles.h"
@@ -160,17 +163,18 @@ TEST_F(ImageLikelihoodBox, LevelsAndPartners) {
             double(fine.scalars.seen_once) / fine.scalars.seen_multi);
 }
 
-TEST_F(ImageLikelihoodBox, DumpAgreesWithTheReduction) {
-  ImageLikelihoodOptions o = Options();
-  o.partners = 2;
-  ImageLikelihood likelihood(device(), *scene_, o);
+// The dump draws every pair alone (one source per draw); the evaluation draws each target
+// with up to TargetWarpPass::kMaxSources sources at once and sums them per pixel. Both must
+// count the same pixel pairs and agree on Σχ² to float rounding.
+void ExpectDumpAgreesWithTheReduction(ImageLikelihood& likelihood, const std::vector<double>& psi) {
+  const Scene& scene = likelihood.scene();
   Evaluation e;
-  const ImageDump dump = likelihood.EvaluateAndDump(truth_, &e);
+  const ImageDump dump = likelihood.EvaluateAndDump(psi, &e);
   ASSERT_EQ(dump.pairs.size(), likelihood.pairs().size());
   double chi2 = 0.0;
   uint32_t compared = 0, once = 0;
   for (const ImagePairDump& d : dump.pairs) {
-    const Camera t = scene_->Cameras(truth_)[size_t(d.pair.target)];
+    const Camera t = scene.Cameras(psi)[size_t(d.pair.target)];
     ASSERT_EQ(d.synthetic.width, t.width);
     ASSERT_EQ(d.consistency.height, t.height);
     int holes = 0, surface = 0;
@@ -195,12 +199,52 @@ TEST_F(ImageLikelihoodBox, DumpAgreesWithTheReduction) {
     EXPECT_GT(surface, t.width * t.height / 2) << "the ground fills most of every view";
     EXPECT_LE(holes, 2) << "pair " << d.pair.source << "→" << d.pair.target;
   }
-  const double sigma = kSigma / 255.0;
+  const double sigma = likelihood.options().model.sigma / 255.0;
   EXPECT_EQ(compared, e.scalars.seen_multi);
   EXPECT_EQ(once, e.scalars.seen_once);
-  EXPECT_NEAR(chi2 * sigma * sigma, e.scalars.sum_squares, 1e-4 * e.scalars.sum_squares);
+  EXPECT_NEAR(chi2 * sigma * sigma, e.scalars.sum_squares, 1e-5 * e.scalars.sum_squares);
   // The same hypothesis without a dump evaluates identically.
-  EXPECT_TRUE(SameScalars(likelihood.Evaluate({truth_})[0].scalars, e.scalars));
+  EXPECT_TRUE(SameScalars(likelihood.Evaluate({psi})[0].scalars, e.scalars));
+}
+
+TEST_F(ImageLikelihoodBox, DumpAgreesWithTheReduction) {
+  ImageLikelihoodOptions o = Options();
+  o.partners = 2;
+  ImageLikelihood nearest(device(), *scene_, o);
+  ExpectDumpAgreesWithTheReduction(nearest, truth_);
+  // All 8 sources of each target in one draw, at the truth and off it.
+  ImageLikelihood all(device(), *scene_, Options());
+  ExpectDumpAgreesWithTheReduction(all, truth_);
+  std::vector<double> wrong = truth_;
+  wrong[0] += 0.1;  // x
+  ExpectDumpAgreesWithTheReduction(all, wrong);
+}
+
+TEST_F(ImageLikelihoodBox, MoreSourcesThanOneDrawTakes) {
+  // 12 cameras (the 9 and copies of the first 3 under other names): each target has 11
+  // sources, more than TargetWarpPass::kMaxSources, so its pairs take two draws.
+  nlohmann::json cameras = nlohmann::json::parse(std::ifstream(*dir_ / "cameras.json"));
+  nlohmann::json& list = cameras["cameras"];
+  for (int i = 0; i < 3; ++i) {
+    nlohmann::json copy = list[size_t(i)];
+    copy["name"] = copy["name"].get<std::string>() + "_again";
+    list.push_back(copy);
+  }
+  ASSERT_GT(int(list.size()) - 1, TargetWarpPass::kMaxSources);
+  std::ofstream(*dir_ / "cameras12.json") << cameras.dump();
+  const Scene twelve = LoadScene(fs::path(VKRECON_SOURCE_DIR) / "assets/box/scene.json",
+                                 {{"cameras", (*dir_ / "cameras12.json").string()}, {"images", dir_->path().string()}});
+  ImageLikelihoodOptions o = Options();
+  o.max_batch = 2;
+  ImageLikelihood likelihood(device(), twelve, o);
+  EXPECT_EQ(likelihood.pairs().size(), 132u);
+  ExpectDumpAgreesWithTheReduction(likelihood, truth_);
+  // A camera and its copy see alike: their pairs compare almost every pixel, at a χ² near 0
+  // (the same noisy image on both sides), so the 12 cameras' χ²/dof is below the 9's.
+  const Evaluation nine = ImageLikelihood(device(), *scene_, Options()).Evaluate({truth_})[0];
+  const Evaluation e = likelihood.Evaluate({truth_})[0];
+  EXPECT_GT(e.scalars.seen_multi, nine.scalars.seen_multi);
+  EXPECT_LT(Chi2PerDof(e), Chi2PerDof(nine));
 }
 
 TEST_F(ImageLikelihoodBox, ProfileTimesEveryPass) {
@@ -230,6 +274,23 @@ TEST_F(ImageLikelihoodBox, BadOptionsAndScenes) {
   o = Options();
   o.levels = 8;  // 160×120 has mips down to 10×7 only
   EXPECT_THROW(ImageLikelihood(device(), *scene_, o), InputError);
+  // The scene's likelihood.partners: at most the other cameras (8).
+  auto with_partners = [&](const std::string& k) {
+    return LoadScene(fs::path(VKRECON_SOURCE_DIR) / "assets/box/scene.json",
+                     {{"cameras", (*dir_ / "cameras.json").string()},
+                      {"images", dir_->path().string()},
+                      {"likelihood.partners", k},
+                      {"likelihood.partner_ranking", "direction"}});
+  };
+  const ImageLikelihoodOptions eight = ImageLikelihoodOptions::FromScene(with_partners("8"));
+  EXPECT_EQ(eight.partners, 8);
+  EXPECT_EQ(eight.ranking, PartnerRanking::Direction);
+  try {
+    ImageLikelihoodOptions::FromScene(with_partners("9"));
+    ADD_FAILURE() << "9 partners of 9 cameras";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("likelihood.partners"), std::string::npos) << e.what();
+  }
 }
 
 }  // namespace
