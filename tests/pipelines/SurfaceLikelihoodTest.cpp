@@ -13,6 +13,7 @@
 #include <string>
 
 #include "pipelines/passes/Projection.h"
+#include "pipelines/passes/ViewCulling.h"
 #include "tests/common/GpuTest.h"
 #include "tests/pipelines/SurfaceReference.h"
 
@@ -300,6 +301,47 @@ TEST_F(SurfaceLikelihoodVsReference, AHypothesisEvaluatesIdenticallyWhereverItSi
     EXPECT_TRUE(same(batch[0], single_a));
     EXPECT_TRUE(same(batch[1], single_b));
     EXPECT_FALSE(same(batch[0], batch[1]));
+  }
+}
+
+// Host-side culling (ViewCulling.h) only moves texels the shader would reject anyway to a
+// pipeline that writes the same weight 0: every scalar must come out the same to the bit, on
+// hypotheses where whole faces turn away, leave views, and cross a camera's near plane.
+TEST_F(SurfaceLikelihoodVsReference, CullingWhatACameraCannotSeeChangesNothing) {
+  SurfaceLikelihoodOptions culled = Options(ViewWeights::Angle), shaded = culled;
+  shaded.cull_views = false;
+  SurfaceLikelihood with(device(), Box().scene, culled), without(device(), Box().scene, shaded);
+  std::vector<std::vector<double>> batch;
+  for (const auto& [name, psi] : Hypotheses()) batch.push_back(psi);
+  for (int level : {0, 1}) {
+    SCOPED_TRACE("level " + std::to_string(level));
+    with.SetLevel(level);
+    without.SetLevel(level);
+    const std::vector<Evaluation> a = with.Evaluate(batch), b = without.Evaluate(batch);
+    for (size_t k = 0; k < batch.size(); ++k) {
+      SCOPED_TRACE(Hypotheses()[k].first);
+      EXPECT_EQ(a[k].scalars.sum_squares, b[k].scalars.sum_squares);
+      EXPECT_EQ(a[k].scalars.dof, b[k].scalars.dof);
+      EXPECT_EQ(a[k].scalars.seen_multi, b[k].scalars.seen_multi);
+      EXPECT_EQ(a[k].scalars.seen_once, b[k].scalars.seen_once);
+      EXPECT_EQ(a[k].scalars.seen_none, b[k].scalars.seen_none);
+      EXPECT_EQ(a[k].log_likelihood, b[k].log_likelihood);
+    }
+  }
+  // And it culls: at the truth every camera skips some of the scene (the box's far sides,
+  // ground outside its view), or the comparison above proved nothing.
+  const ViewCulling culling(with.geometry());
+  const Scene& scene = Box().scene;
+  const std::vector<Camera> cameras = scene.Cameras(Box().truth);
+  for (size_t i = 0; i < cameras.size(); ++i) {
+    const ViewDraws draws = culling.Classify(scene.WorldFromNode(Box().truth), ClipFromWorld(cameras[i]),
+                                             cameras[i].Centre(), kDefaultNear);
+    uint32_t unseen = 0, shaded_indices = 0;
+    for (const IndexRun& r : draws.unseen) unseen += r.count;
+    for (const IndexRun& r : draws.shaded) shaded_indices += r.count;
+    EXPECT_GT(unseen, 0u) << "camera " << i;
+    EXPECT_GT(shaded_indices, 0u) << "camera " << i;
+    EXPECT_EQ(unseen + shaded_indices, uint32_t(with.geometry().indices.size())) << "camera " << i;
   }
 }
 
