@@ -260,7 +260,8 @@ SurfaceLikelihood::SurfaceLikelihood(vk::Device& device, const Scene& scene,
   m.view_pass = std::make_unique<ViewTexturePass>(device, m.gpu_scene, n * levels,
                                                   options.weights == ViewWeights::Angle, options.depth_tolerance);
   for (int i = 0; i < n; ++i) m.BindCamera(i);
-  m.composite_pass = std::make_unique<CompositePass>(device, m.views, m.mask, options.max_batch);
+  m.composite_pass = std::make_unique<CompositePass>(device, m.views, m.mask, m.geometry.atlas, levels,
+                                                    options.max_batch);
   m.photometric = PhotometricCorrection::Identity(n);
   if (options.profile)
     m.timestamps = std::make_unique<vk::TimestampQueries>(
