@@ -265,6 +265,8 @@ TEST(BadInput, VersionAndSettings) {
   EXPECT_TRUE(LoadFails(dir, scene, {"likelihood.partners", "integer"}));
   scene["likelihood"] = Json{{"partner_ranking", "closest"}};
   EXPECT_TRUE(LoadFails(dir, scene, {"likelihood.partner_ranking", "unknown ranking 'closest'"}));
+  scene["likelihood"] = Json{{"slot_images", "each"}};
+  EXPECT_TRUE(LoadFails(dir, scene, {"likelihood.slot_images", "unknown value 'each'", "per_slot"}));
   scene.erase("likelihood");
   scene["synth"] = Json{{"sun", {0, 95}}};
   EXPECT_TRUE(LoadFails(dir, scene, {"synth.sun[1]", "must be in (0, 90]"}));
