@@ -15,6 +15,9 @@ PACKAGES=(
   # libraries
   libeigen3-dev libopenexr-dev libtinygltf-dev nlohmann-json3-dev libstb-dev
   libcli11-dev libmuparser-dev libgtest-dev
+  # NLopt (C++ header + libraries; pulls libnlopt-dev and the runtimes): `vkrecon fit`, the
+  # peers benchmark and run's polish of the MAP (optimiser/MapSearch.h)
+  libnlopt-cxx-dev
   # python3 draws the plots of the sweep and benchmark scripts (optional at run time)
   python3
   # the plots and the 3D view of a run's report.html, inlined from /usr/share/javascript
