@@ -21,6 +21,7 @@
 
 #include "engine/common/InputError.h"
 #include "engine/geometry/SceneGeometry.h"
+#include "optimiser/Polish.h"
 #include "optimiser/Sampler.h"
 #include "pipelines/likelihood/LikelihoodTool.h"
 #include "pipelines/rendering/ModelExport.h"
@@ -135,7 +136,7 @@ ReconstructResult Reconstruct(const ReconstructOptions& options, vk::Device& dev
 
   std::unique_ptr<Likelihood> likelihood = MakeSearchLikelihood(device, scene, scene.sampler.batch);
   LikelihoodTarget local_target(*likelihood, scene, scene.likelihood.sigma_auto, scene.likelihood.clutter,
-                                options.output_dir, root);
+                                options.output_dir, root, options.observer.evaluated);
   DistributedTarget target(local_target, ranks);
 
   opt::SamplerOptions sampler_options;
@@ -209,6 +210,7 @@ ReconstructResult Reconstruct(const ReconstructOptions& options, vk::Device& dev
   opt::SamplerCallbacks callbacks;
   callbacks.on_frame = [&](const opt::Progress& p) {
     bar.Update(p);
+    if (options.observer.best && !p.best_psi.empty()) options.observer.best(p.best_psi);
     opt::FrameRequest r;
     if (time_limit > 0.0 && p.phase == opt::Phase::Sampling &&
         Clock::now() - sampling_start > std::chrono::duration<double>(time_limit)) {
@@ -240,6 +242,21 @@ ReconstructResult Reconstruct(const ReconstructOptions& options, vk::Device& dev
   opt::SamplerSummary summary;
   opt::Run(*sampler, &summary, callbacks);
   bar.Finish();
+  // The MAP polished by BOBYQA (optimiser/Polish.h): every rank runs the same search, as it
+  // ran the same sampler. Not in the checkpoint: a resumed finished run polishes again, alike.
+  opt::PolishSummary polish;
+  if (summary.termination == opt::Termination::Completed) {
+    double best = summary.map_log_posterior;
+    polish = opt::PolishMap(sampler->parameters(), target, sampler->options().polish_evaluations, &summary,
+                            [&](const opt::SearchEvaluation& e) {
+                              if (!(e.log_posterior > best)) return;
+                              best = e.log_posterior;
+                              if (options.observer.best) options.observer.best(*e.psi);
+                            });
+    if (!quiet && polish.evaluations > 0)
+      std::cerr << "vkrecon run: polished the MAP with BOBYQA: " << polish.evaluations << " evaluations, +"
+                << polish.improvement << " nats\n";
+  }
   const nlohmann::json exchange = ranks.distributed() ? ExchangeCost(target.times(), ranks, scene.sampler.batch)
                                                       : nlohmann::json();
 
@@ -327,6 +344,8 @@ ReconstructResult Reconstruct(const ReconstructOptions& options, vk::Device& dev
   result.failed = diagnosis.verdict == Diagnosis::Verdict::Failed;
 
   nlohmann::json map = opt::MapJson(summary);
+  map["polish"] = {{"method", "bobyqa"}, {"evaluations", polish.evaluations}, {"improved", polish.improved},
+                   {"improvement", polish.improvement}, {"message", polish.message}};
   if (!clutter_files.empty()) map["calibration"]["clutter"]["files"] = clutter_files;
   map["settings"] = {{"scene", fs::absolute(options.scene_file).string()},
                      {"overrides", nlohmann::json::array()},
