@@ -131,8 +131,9 @@ PeersReport RunPeers(const PeersOptions& options, vk::Device& device, const Peer
   report.device = device.name();
   report.options = options;
   const auto start = Clock::now();
-  for (const Asset& asset : assets)
-    for (const int seed : options.seeds) {
+  // Seed-major: the rows kept so far cover every asset, should a long run be cut short.
+  for (const int seed : options.seeds)
+    for (const Asset& asset : assets) {
       const fs::path folder = work / asset.name / ("seed" + std::to_string(seed));
       // The reference photographs, as scripts/noise_study.py makes them.
       SynthOptions synth;
