@@ -23,6 +23,9 @@ layout(set = 0, binding = 4, rgba32f) uniform writeonly image2D deviation_out;
 // of the photometric correction c' = gain·c + offset (pipelines/model/Photometric.h).
 layout(std430, set = 0, binding = 5) readonly buffer Photometric { vec4 photometric[]; };
 layout(set = 0, binding = 6, rgba32f) uniform writeonly image2D noise_out;
+// The workgroup tiles that touch a chart (CompositePass.cpp): texels off the charts are no
+// surface and are not visited.
+layout(std430, set = 0, binding = 7) readonly buffer Tiles { uvec2 tiles[]; };
 
 layout(push_constant) uniform Push {
   uint size;            // atlas side at this level
@@ -31,6 +34,7 @@ layout(push_constant) uniform Push {
   float sigma2;         // σ² of the noise model, [0,1] colour scale
   float delta2;         // δ² (level pixels²): the noise grows by δ²|∇I|² where the image is textured
   float outlier;        // K: the χ² (3 channels) at which a view's loss saturates
+  uint tile_offset;     // this level's first tile
 } pc;
 
 // Texels per invocation, a column (CompositePass.cpp mirrors it as kCompositeRows): fewer
@@ -204,13 +208,13 @@ void main() {
     offsets[i] = photometric[2u * i + 1u];
   }
   Scalars mine = ZeroScalars();
-  const uint x = gl_GlobalInvocationID.x;
-  const uint y0 = gl_WorkGroupID.y * kRows;
+  const uvec2 tile = tiles[pc.tile_offset + gl_WorkGroupID.x];
+  const uint x = tile.x * gl_WorkGroupSize.x + gl_LocalInvocationID.x;
+  const uint y0 = tile.y * kRows;
   for (uint r = 0u; r < kRows; ++r)
     if (x < pc.size && y0 + r < pc.size) mine = AddScalars(mine, CompositeTexel(uvec2(x, y0 + r)));
   const Scalars total = ReduceSubgroup(mine);
   if (subgroupElect()) {
-    const uint group = gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x;
-    partials[pc.partial_offset + group] = total;
+    partials[pc.partial_offset + gl_WorkGroupID.x] = total;
   }
 }

@@ -171,11 +171,6 @@ MeshData Strips(int strips, double share, int* long_strips) {
 // A camera at `eye` looking at `target`, OpenCV axes (z forward, x right, y down), with a
 // focal length of 0.9375 · width (600 px at 640 wide) and the principal point centred.
 Camera LookAt(const std::string& name, const Vector3d& eye, const Vector3d& target, int width, int height) {
-  const Vector3d z = (target - eye).normalized();
-  Vector3d x = z.cross(Vector3d::UnitZ());
-  if (x.norm() < 1e-6) x = Vector3d::UnitX();
-  x.normalize();
-  const Vector3d y = z.cross(x);
   Camera c;
   c.name = name;
   c.image = name + ".png";
@@ -183,13 +178,7 @@ Camera LookAt(const std::string& name, const Vector3d& eye, const Vector3d& targ
   c.height = height;
   const double f = 0.9375 * width;
   c.K << f, 0, 0.5 * width, 0, f, 0.5 * height, 0, 0, 1;
-  Eigen::Matrix3d R;
-  R.row(0) = x;
-  R.row(1) = y;
-  R.row(2) = z;
-  c.cam_from_world.setIdentity();
-  c.cam_from_world.topLeftCorner<3, 3>() = R;
-  c.cam_from_world.topRightCorner<3, 1>() = -R * eye;
+  c.cam_from_world = CamFromWorldLookingAt(eye, target);
   return c;
 }
 

@@ -175,4 +175,21 @@ Eigen::Vector2d Camera::Project(const Eigen::Vector3d& world) const {
   return x.head<2>() / x.z();
 }
 
+Eigen::Matrix4d CamFromWorldLookingAt(const Eigen::Vector3d& eye, const Eigen::Vector3d& target) {
+  // OpenCV axes: z forward, x right, y down.
+  const Eigen::Vector3d z = (target - eye).normalized();
+  Eigen::Vector3d x = z.cross(Eigen::Vector3d::UnitZ());
+  if (x.norm() < 1e-6) x = Eigen::Vector3d::UnitX();
+  x.normalize();
+  const Eigen::Vector3d y = z.cross(x);
+  Eigen::Matrix3d r;
+  r.row(0) = x;
+  r.row(1) = y;
+  r.row(2) = z;
+  Eigen::Matrix4d m = Eigen::Matrix4d::Identity();
+  m.topLeftCorner<3, 3>() = r;
+  m.topRightCorner<3, 1>() = -r * eye;
+  return m;
+}
+
 }  // namespace vkr

@@ -115,6 +115,10 @@ struct Camera {
   Eigen::Vector2d Project(const Eigen::Vector3d& world) const;
 };
 
+// cam_from_world of a camera at `eye` looking at `target` with world z up (image y down);
+// straight up or down, image x is world x.
+Eigen::Matrix4d CamFromWorldLookingAt(const Eigen::Vector3d& eye, const Eigen::Vector3d& target);
+
 struct LikelihoodSettings {
   std::string kind = "surface";  // "surface" | "image"
   double sigma = 8.0;            // noise sd on the 0–255 scale

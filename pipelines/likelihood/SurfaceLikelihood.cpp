@@ -93,6 +93,7 @@ struct SurfaceLikelihood::Impl {
   DepthPass depth_pass;
   std::unique_ptr<ViewTexturePass> view_pass;
   InteriorPass interior_pass;
+  ViewCulling culling;
   std::unique_ptr<CompositePass> composite_pass;
   std::unique_ptr<vk::TimestampQueries> timestamps;
   PhotometricCorrection photometric;
@@ -109,7 +110,8 @@ struct SurfaceLikelihood::Impl {
         context(d),
         gpu_scene(d, transfer, geometry, o.max_batch),
         depth_pass(d, gpu_scene),
-        interior_pass(d, s, geometry, gpu_scene) {}
+        interior_pass(d, s, geometry, gpu_scene),
+        culling(geometry) {}
 
   uint32_t LevelAtlas() const { return uint32_t(options.atlas >> level); }
 
@@ -143,8 +145,8 @@ struct SurfaceLikelihood::Impl {
   // `clear_views`: zero the view layers first. Dumps need it (their layers read zero off the
   // charts); the first evaluation does it once, as a precaution. Otherwise nothing off the
   // charts is ever read, and every chart texel is written (ViewTexturePass.cpp).
-  void RecordHypothesis(VkCommandBuffer cmd, int slot, const std::vector<Camera>& cams, bool dump,
-                        bool clear_views) const {
+  void RecordHypothesis(VkCommandBuffer cmd, int slot, const std::vector<Camera>& cams,
+                        const std::vector<Eigen::Matrix4d>& world_from_node, bool dump, bool clear_views) const {
     const uint32_t ts = uint32_t(slot) * kTimestampsPerHypothesis;
     Timestamp(cmd, ts);
     std::vector<ViewCamera> views_at_level;
@@ -169,9 +171,13 @@ struct SurfaceLikelihood::Impl {
                        VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, 0,
                        VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT, VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT);
     const int levels = options.levels;
-    for (size_t i = 0; i < cams.size(); ++i)
-      view_pass->record(cmd, views_at_level[i], int(i) * levels + level, slot, view_layers[i], LevelAtlas(),
+    for (size_t i = 0; i < cams.size(); ++i) {
+      const ViewDraws draws = options.cull_views ? culling.Classify(world_from_node, views_at_level[i].clip_from_world,
+                                                                    views_at_level[i].centre, kDefaultNear)
+                                                 : culling.ShadeAll();
+      view_pass->record(cmd, views_at_level[i], draws, int(i) * levels + level, slot, view_layers[i], LevelAtlas(),
                         clear_views);
+    }
     Timestamp(cmd, ts + 2);
     interior_pass.record(cmd, slot, mask, LevelAtlas());
     Timestamp(cmd, ts + 3);
@@ -192,17 +198,18 @@ struct SurfaceLikelihood::Impl {
       throw std::invalid_argument("SurfaceLikelihood::Evaluate: batch of " + std::to_string(batch.size()) +
                                   " exceeds max_batch " + std::to_string(options.max_batch));
     std::vector<std::vector<Camera>> cams(batch.size());
+    std::vector<std::vector<Eigen::Matrix4d>> world(batch.size());
     for (size_t k = 0; k < batch.size(); ++k) {
       if (batch[k].size() != scene->parameters.size())
         throw std::invalid_argument("SurfaceLikelihood::Evaluate: hypothesis has the wrong length");
-      const std::vector<Eigen::Matrix4d> world = scene->WorldFromNode(batch[k]);
-      gpu_scene.SetNodeMatrices(int(k), world);
-      interior_pass.SetNodeMatrices(int(k), world);
+      world[k] = scene->WorldFromNode(batch[k]);
+      gpu_scene.SetNodeMatrices(int(k), world[k]);
+      interior_pass.SetNodeMatrices(int(k), world[k]);
       cams[k] = scene->Cameras(batch[k]);
     }
     VkCommandBuffer cmd = context.Begin();
     if (timestamps) timestamps->Reset(cmd);
-    for (size_t k = 0; k < batch.size(); ++k) RecordHypothesis(cmd, int(k), cams[k], dump, dump || !views_defined);
+    for (size_t k = 0; k < batch.size(); ++k) RecordHypothesis(cmd, int(k), cams[k], world[k], dump, dump || !views_defined);
     composite_pass->record_reduce(cmd, int(batch.size()), LevelAtlas());
     if (timestamps) timestamps->Write(cmd, uint32_t(batch.size()) * kTimestampsPerHypothesis);
     context.SubmitAndWait();
@@ -253,7 +260,8 @@ SurfaceLikelihood::SurfaceLikelihood(vk::Device& device, const Scene& scene,
   m.view_pass = std::make_unique<ViewTexturePass>(device, m.gpu_scene, n * levels,
                                                   options.weights == ViewWeights::Angle, options.depth_tolerance);
   for (int i = 0; i < n; ++i) m.BindCamera(i);
-  m.composite_pass = std::make_unique<CompositePass>(device, m.views, m.mask, options.max_batch);
+  m.composite_pass = std::make_unique<CompositePass>(device, m.views, m.mask, m.geometry.atlas, levels,
+                                                    options.max_batch);
   m.photometric = PhotometricCorrection::Identity(n);
   if (options.profile)
     m.timestamps = std::make_unique<vk::TimestampQueries>(

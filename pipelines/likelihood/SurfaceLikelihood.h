@@ -38,6 +38,9 @@ struct SurfaceLikelihoodOptions {
   // CalibratePhotometric, the identity until then.
   PhotometricModel photometric = PhotometricModel::None;
   bool profile = false;   // GPU timestamps around every pass (see LastPassTimesMs)
+  // Skip shading what a camera cannot see (ViewCulling.h). Off only to test that it changes
+  // nothing.
+  bool cull_views = true;
 
   bool IsValid(std::string* why) const;
   // Reads σ, weights, atlas, levels and the photometric model from the scene's "likelihood" settings.

@@ -1,5 +1,7 @@
 #include "pipelines/passes/CompositePass.h"
 
+#include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <stdexcept>
 #include <string>
@@ -16,6 +18,7 @@ namespace {
 struct CompositePush {
   uint32_t size, partial_offset, write_images;
   float sigma2, delta2, outlier;
+  uint32_t tile_offset;
 };
 
 constexpr uint32_t kCompositeRows = 16;  // composite.comp's texels per invocation (a column)
@@ -26,15 +29,69 @@ VkDescriptorSetLayoutBinding Binding(uint32_t b, VkDescriptorType type) {
 
 }  // namespace
 
+// A chart's texels at level l lie within its level-0 rectangle scaled by 2^−l; a texel of
+// margin covers the rasteriser's rounding at the edges.
+std::vector<uint32_t> CompositePass::ChartTiles(const AtlasLayout& layout, int level, uint32_t lanes) {
+  const uint32_t size = uint32_t(layout.size) >> level;
+  const uint32_t columns = (size + lanes - 1) / lanes, rows = (size + kCompositeRows - 1) / kCompositeRows;
+  std::vector<char> used(size_t(columns) * rows, 0);
+  const float scale = 1.0f / float(1 << level);
+  for (const Chart& c : layout.charts) {
+    const int x0 = std::max(0, int(std::floor(c.x * scale)) - 1), y0 = std::max(0, int(std::floor(c.y * scale)) - 1);
+    const int x1 = std::min(int(size), int(std::ceil((c.x + c.w) * scale)) + 1);
+    const int y1 = std::min(int(size), int(std::ceil((c.y + c.h) * scale)) + 1);
+    for (int ty = y0 / int(kCompositeRows); ty * int(kCompositeRows) < y1; ++ty)
+      for (int tx = x0 / int(lanes); tx * int(lanes) < x1; ++tx) used[size_t(ty) * columns + size_t(tx)] = 1;
+  }
+  std::vector<uint32_t> tiles;  // (x, y) pairs
+  for (uint32_t ty = 0; ty < rows; ++ty)
+    for (uint32_t tx = 0; tx < columns; ++tx)
+      if (used[size_t(ty) * columns + tx]) tiles.insert(tiles.end(), {tx, ty});
+  return tiles;
+}
+
+namespace {
+
+std::vector<std::vector<uint32_t>> TilesPerLevel(const AtlasLayout& layout, int levels, uint32_t lanes) {
+  std::vector<std::vector<uint32_t>> out;
+  for (int l = 0; l < levels; ++l) out.push_back(CompositePass::ChartTiles(layout, l, lanes));
+  return out;
+}
+
+uint32_t MostTiles(const std::vector<std::vector<uint32_t>>& tiles) {
+  size_t most = 1;
+  for (const auto& t : tiles) most = std::max(most, t.size() / 2);
+  return uint32_t(most);
+}
+
+}  // namespace
+
 CompositePass::CompositePass(vk::Device& device, const vk::GpuImage& views, const vk::GpuImage& mask,
-                             int max_batch)
+                             const AtlasLayout& layout, int levels, int max_batch)
+    : CompositePass(device, views, mask, TilesPerLevel(layout, levels, device.subgroup_size()), max_batch) {}
+
+CompositePass::CompositePass(vk::Device& device, const vk::GpuImage& views, const vk::GpuImage& mask,
+                             const std::vector<std::vector<uint32_t>>& tiles, int max_batch)
     : view_count_(views.info().layers),
       lanes_(device.subgroup_size()),
-      reduce_(device, max_batch, GroupCount(views.info().width)),
+      atlas_size_(views.info().width),
+      reduce_(device, max_batch, MostTiles(tiles)),
       photometric_(device, VkDeviceSize(views.info().layers) * 8 * sizeof(float), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
                    vk::MemoryUse::Upload) {
+  size_t all = 0;
+  for (const auto& t : tiles) all += t.size();
+  tiles_ = vk::Buffer(device, VkDeviceSize(std::max<size_t>(all, 2)) * sizeof(uint32_t),
+                      VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, vk::MemoryUse::Upload);
+  uint32_t offset = 0;
+  for (const auto& t : tiles) {
+    if (!t.empty()) std::memcpy(tiles_.data<uint32_t>() + offset, t.data(), t.size() * sizeof(uint32_t));
+    tile_offset_.push_back(offset / 2);
+    tile_count_.push_back(uint32_t(t.size() / 2));
+    offset += uint32_t(t.size());
+  }
   const uint32_t size = views.info().width;
-  const VkImageUsageFlags dump_usage = VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
+  const VkImageUsageFlags dump_usage =
+      VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT;
   composite_ = vk::GpuImage(device, {size, size, 1, VK_FORMAT_R32G32B32A32_SFLOAT, dump_usage});
   deviation_ = vk::GpuImage(device, {size, size, 1, VK_FORMAT_R32G32B32A32_SFLOAT, dump_usage});
   noise_ = vk::GpuImage(device, {size, size, 1, VK_FORMAT_R32G32B32A32_SFLOAT, dump_usage});
@@ -44,7 +101,7 @@ CompositePass::CompositePass(vk::Device& device, const vk::GpuImage& views, cons
       Binding(0, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE), Binding(1, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE),
       Binding(2, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER), Binding(3, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE),
       Binding(4, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE), Binding(5, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER),
-      Binding(6, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE)};
+      Binding(6, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE), Binding(7, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER)};
   composite_set_layout_ = CreateDescriptorSetLayout(device, composite_bindings);
   composite_layout_ = CreatePipelineLayout(device, composite_set_layout_, sizeof(CompositePush),
                                            VK_SHADER_STAGE_COMPUTE_BIT);
@@ -58,6 +115,7 @@ CompositePass::CompositePass(vk::Device& device, const vk::GpuImage& views, cons
   WriteStorageImage(device, composite_set_, 4, deviation_.view());
   WriteStorageBuffer(device, composite_set_, 5, photometric_);
   WriteStorageImage(device, composite_set_, 6, noise_.view());
+  WriteStorageBuffer(device, composite_set_, 7, tiles_);
 
 
   const vk::ShaderModule composite = vk::CreateShaderModule(device, kCompositeComp, sizeof(kCompositeComp));
@@ -73,14 +131,14 @@ CompositePass::CompositePass(vk::Device& device, const vk::GpuImage& views, cons
   context.SubmitAndWait();
 }
 
-// A workgroup is one subgroup of `lanes` invocations side by side, each summing a column.
-VkExtent2D CompositePass::Groups(uint32_t level_size) const {
-  return {(level_size + lanes_ - 1) / lanes_, (level_size + kCompositeRows - 1) / kCompositeRows};
+int CompositePass::Level(uint32_t level_size) const {
+  for (size_t l = 0; l < tile_count_.size(); ++l)
+    if ((atlas_size_ >> l) == level_size) return int(l);
+  throw std::invalid_argument("CompositePass: no level of atlas side " + std::to_string(level_size));
 }
 
-uint32_t CompositePass::GroupCount(uint32_t level_size) const {
-  const VkExtent2D g = Groups(level_size);
-  return g.width * g.height;
+uint64_t CompositePass::TexelsVisited(uint32_t level_size) const {
+  return uint64_t(tile_count_[size_t(Level(level_size))]) * lanes_ * kCompositeRows;
 }
 
 void CompositePass::SetPhotometric(const PhotometricCorrection& correction) {
@@ -105,17 +163,28 @@ void CompositePass::record(VkCommandBuffer cmd, int slot, uint32_t level_size, c
                            write_images ? 1u : 0u,
                            float(sigma * sigma),
                            float(model.position_sd * model.position_sd),
-                           float(model.outlier_chi2)};
+                           float(model.outlier_chi2),
+                           tile_offset_[size_t(Level(level_size))]};
   vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, composite_pipeline_);
   vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, composite_layout_, 0, 1,
                           &composite_set_, 0, nullptr);
   vkCmdPushConstants(cmd, composite_layout_, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(push), &push);
-  const VkExtent2D groups = Groups(level_size);
-  vkCmdDispatch(cmd, groups.width, groups.height, 1);
+  const uint32_t tiles = tile_count_[size_t(Level(level_size))];
+  if (write_images) {  // texels off the charts are not visited: let them read 0 in the dumps
+    vk::MemoryBarrier(cmd, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_MEMORY_READ_BIT | VK_ACCESS_2_MEMORY_WRITE_BIT,
+                      VK_PIPELINE_STAGE_2_CLEAR_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT);
+    const VkClearColorValue zero{};
+    const VkImageSubresourceRange all{VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+    for (const vk::GpuImage* image : {&composite_, &deviation_, &noise_})
+      vkCmdClearColorImage(cmd, image->handle(), VK_IMAGE_LAYOUT_GENERAL, &zero, 1, &all);
+    vk::MemoryBarrier(cmd, VK_PIPELINE_STAGE_2_CLEAR_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
+                      VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
+  }
+  if (tiles > 0) vkCmdDispatch(cmd, tiles, 1, 1);
 }
 
 void CompositePass::record_reduce(VkCommandBuffer cmd, int batch, uint32_t level_size) const {
-  reduce_.record(cmd, batch, GroupCount(level_size));
+  reduce_.record(cmd, batch, tile_count_[size_t(Level(level_size))]);
 }
 
 ReducedScalars CompositePass::Result(int slot) const { return reduce_.Result(slot); }

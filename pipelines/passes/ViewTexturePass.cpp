@@ -5,6 +5,7 @@
 #include "pipelines/passes/PipelineBuilder.h"
 #include "pipelines/passes/Projection.h"
 #include "shaders/view_texture_frag.h"
+#include "shaders/view_texture_unseen_frag.h"
 #include "shaders/view_texture_vert.h"
 
 namespace vkr {
@@ -56,6 +57,10 @@ ViewTexturePass::ViewTexturePass(vk::Device& device, const GpuScene& scene, int 
   pipeline_ = CreateGraphicsPipeline(device, desc);
   desc.fragment_constants = {1};
   validity_pipeline_ = CreateGraphicsPipeline(device, desc);
+  const vk::ShaderModule unseen = vk::CreateShaderModule(device, kViewTextureUnseenFrag, sizeof(kViewTextureUnseenFrag));
+  desc.fragment = unseen;
+  desc.fragment_constants = {};
+  unseen_pipeline_ = CreateGraphicsPipeline(device, desc);
   checks_validity_.assign(size_t(bindings), false);
 }
 
@@ -71,8 +76,8 @@ void ViewTexturePass::BindImages(int index, VkImageView reference, VkImageView d
                     VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
 }
 
-void ViewTexturePass::record(VkCommandBuffer cmd, const ViewCamera& camera, int binding, int slot,
-                             VkImageView target, uint32_t atlas_size, bool clear) const {
+void ViewTexturePass::record(VkCommandBuffer cmd, const ViewCamera& camera, const ViewDraws& draws, int binding,
+                             int slot, VkImageView target, uint32_t atlas_size, bool clear) const {
   ViewTexturePush push{};
   const Eigen::Matrix4f clip = camera.clip_from_world.cast<float>();
   std::memcpy(push.clip_from_world, clip.data(), sizeof(push.clip_from_world));
@@ -91,14 +96,18 @@ void ViewTexturePass::record(VkCommandBuffer cmd, const ViewCamera& camera, int 
   nothing.uint32[0] = nothing.uint32[1] = 0u;  // weight 0: no camera sees the texel
   const std::optional<VkClearColorValue> zero = clear ? std::optional<VkClearColorValue>(nothing) : std::nullopt;
   BeginRendering(cmd, atlas_size, atlas_size, target, zero, VK_NULL_HANDLE);
-  vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS,
-                    checks_validity_.at(size_t(binding)) ? validity_pipeline_ : pipeline_);
   vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_, 0, 1, &sets_.at(binding), 0,
                           nullptr);
   vkCmdPushConstants(cmd, layout_, VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0,
                      sizeof(ViewTexturePush), &push);
   scene_->Bind(cmd);
-  vkCmdDrawIndexed(cmd, scene_->index_count(), 1, 0, 0, 0);
+  auto draw = [&](VkPipeline pipeline, const std::vector<IndexRun>& runs) {
+    if (runs.empty()) return;
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline);
+    for (const IndexRun& run : runs) vkCmdDrawIndexed(cmd, run.count, 1, run.first, 0, 0);
+  };
+  draw(checks_validity_.at(size_t(binding)) ? validity_pipeline_ : pipeline_, draws.shaded);
+  draw(unseen_pipeline_, draws.unseen);
   vkCmdEndRendering(cmd);
 }
 

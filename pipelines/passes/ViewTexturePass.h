@@ -9,6 +9,7 @@
 
 #include "engine/vk/Resources.h"
 #include "pipelines/passes/GpuScene.h"
+#include "pipelines/passes/ViewCulling.h"
 
 namespace vkr {
 
@@ -41,9 +42,10 @@ class ViewTexturePass {
   void BindImages(int index, VkImageView reference, VkImageView depth, VkImageView validity);
 
   // Renders into `target` (one layer of the view-texture array, COLOR_ATTACHMENT_OPTIMAL)
-  // over [0, atlas_size)². Texels outside every chart keep whatever they held (undefined)
-  // unless `clear` (for dumps) zeroes the layer first.
-  void record(VkCommandBuffer cmd, const ViewCamera& camera, int binding, int slot,
+  // over [0, atlas_size)²: `draws.shaded` in full, `draws.unseen` as weight 0
+  // (ViewCulling.h). Texels outside every chart keep whatever they held (undefined) unless
+  // `clear` (for dumps) zeroes the layer first.
+  void record(VkCommandBuffer cmd, const ViewCamera& camera, const ViewDraws& draws, int binding, int slot,
               VkImageView target, uint32_t atlas_size, bool clear) const;
 
  private:
@@ -57,7 +59,7 @@ class ViewTexturePass {
   vk::DescriptorPool pool_;
   std::vector<VkDescriptorSet> sets_;
   std::vector<bool> checks_validity_;  // per binding: draw with validity_pipeline_
-  vk::Pipeline pipeline_, validity_pipeline_;
+  vk::Pipeline pipeline_, validity_pipeline_, unseen_pipeline_;
 };
 
 }  // namespace vkr

@@ -269,24 +269,12 @@ std::vector<Camera> OrbitCameras(const Scene& scene, const std::vector<double>& 
   for (int k = 0; k < n; ++k) {
     const double a = 2.0 * M_PI * k / n;
     const Eigen::Vector3d eye = centre + Eigen::Vector3d(radius * std::cos(a), radius * std::sin(a), height);
-    // OpenCV camera axes: z forward, x right, y down.
-    const Eigen::Vector3d z = (centre - eye).normalized();
-    Eigen::Vector3d x = z.cross(Eigen::Vector3d::UnitZ());
-    if (x.norm() < 1e-6) x = Eigen::Vector3d::UnitX();
-    x.normalize();
-    const Eigen::Vector3d y = z.cross(x);
     Camera c = cameras.front();
     char name[16];
     std::snprintf(name, sizeof name, "%03d", k);
     c.name = name;
     c.image.clear();
-    Eigen::Matrix3d R;
-    R.row(0) = x;
-    R.row(1) = y;
-    R.row(2) = z;
-    c.cam_from_world.setIdentity();
-    c.cam_from_world.topLeftCorner<3, 3>() = R;
-    c.cam_from_world.topRightCorner<3, 1>() = -R * eye;
+    c.cam_from_world = CamFromWorldLookingAt(eye, centre);
     out.push_back(c);
   }
   return out;

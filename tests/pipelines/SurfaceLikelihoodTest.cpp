@@ -12,7 +12,9 @@
 #include <cstdio>
 #include <string>
 
+#include "pipelines/passes/CompositePass.h"
 #include "pipelines/passes/Projection.h"
+#include "pipelines/passes/ViewCulling.h"
 #include "tests/common/GpuTest.h"
 #include "tests/pipelines/SurfaceReference.h"
 
@@ -300,6 +302,80 @@ TEST_F(SurfaceLikelihoodVsReference, AHypothesisEvaluatesIdenticallyWhereverItSi
     EXPECT_TRUE(same(batch[0], single_a));
     EXPECT_TRUE(same(batch[1], single_b));
     EXPECT_FALSE(same(batch[0], batch[1]));
+  }
+}
+
+// Host-side culling (ViewCulling.h) only moves texels the shader would reject anyway to a
+// pipeline that writes the same weight 0: every scalar must come out the same to the bit, on
+// hypotheses where whole faces turn away, leave views, and cross a camera's near plane.
+TEST_F(SurfaceLikelihoodVsReference, CullingWhatACameraCannotSeeChangesNothing) {
+  SurfaceLikelihoodOptions culled = Options(ViewWeights::Angle), shaded = culled;
+  shaded.cull_views = false;
+  SurfaceLikelihood with(device(), Box().scene, culled), without(device(), Box().scene, shaded);
+  std::vector<std::vector<double>> batch;
+  for (const auto& [name, psi] : Hypotheses()) batch.push_back(psi);
+  for (int level : {0, 1}) {
+    SCOPED_TRACE("level " + std::to_string(level));
+    with.SetLevel(level);
+    without.SetLevel(level);
+    const std::vector<Evaluation> a = with.Evaluate(batch), b = without.Evaluate(batch);
+    for (size_t k = 0; k < batch.size(); ++k) {
+      SCOPED_TRACE(Hypotheses()[k].first);
+      EXPECT_EQ(a[k].scalars.sum_squares, b[k].scalars.sum_squares);
+      EXPECT_EQ(a[k].scalars.dof, b[k].scalars.dof);
+      EXPECT_EQ(a[k].scalars.seen_multi, b[k].scalars.seen_multi);
+      EXPECT_EQ(a[k].scalars.seen_once, b[k].scalars.seen_once);
+      EXPECT_EQ(a[k].scalars.seen_none, b[k].scalars.seen_none);
+      EXPECT_EQ(a[k].log_likelihood, b[k].log_likelihood);
+    }
+  }
+  // And it culls: at the truth every camera skips some of the scene (the box's far sides,
+  // ground outside its view), or the comparison above proved nothing.
+  const ViewCulling culling(with.geometry());
+  const Scene& scene = Box().scene;
+  const std::vector<Camera> cameras = scene.Cameras(Box().truth);
+  for (size_t i = 0; i < cameras.size(); ++i) {
+    const ViewDraws draws = culling.Classify(scene.WorldFromNode(Box().truth), ClipFromWorld(cameras[i]),
+                                             cameras[i].Centre(), kDefaultNear);
+    uint32_t unseen = 0, shaded_indices = 0;
+    for (const IndexRun& r : draws.unseen) unseen += r.count;
+    for (const IndexRun& r : draws.shaded) shaded_indices += r.count;
+    EXPECT_GT(unseen, 0u) << "camera " << i;
+    EXPECT_GT(shaded_indices, 0u) << "camera " << i;
+    EXPECT_EQ(unseen + shaded_indices, uint32_t(with.geometry().indices.size())) << "camera " << i;
+  }
+}
+
+// The composite visits only the workgroup tiles that touch a chart: every texel whose centre
+// lies on a triangle must be in one, at every level, and tiles off the charts are skipped.
+TEST_F(SurfaceLikelihoodVsReference, TheCompositeTilesCoverEverySurfaceTexel) {
+  const SceneGeometry geometry = BuildSceneGeometry(Box().scene, Box().truth, 128);
+  for (uint32_t lanes : {4u, 8u, 16u}) {
+    for (int level : {0, 1, 2}) {
+      SCOPED_TRACE("lanes " + std::to_string(lanes) + ", level " + std::to_string(level));
+      const int side = geometry.atlas.size >> level;
+      const std::vector<uint32_t> tiles = CompositePass::ChartTiles(geometry.atlas, level, lanes);
+      std::vector<bool> visited(size_t(side) * side, false);
+      for (size_t k = 0; k + 1 < tiles.size(); k += 2) {
+        if (k >= 2) EXPECT_LT(tiles[k - 1] * 1000 + tiles[k - 2], tiles[k + 1] * 1000 + tiles[k]) << "row-major";
+        for (uint32_t r = 0; r < 16; ++r)
+          for (uint32_t x = 0; x < lanes; ++x) {
+            const uint32_t tx = tiles[k] * lanes + x, ty = tiles[k + 1] * 16 + r;
+            if (tx < uint32_t(side) && ty < uint32_t(side)) visited[size_t(ty) * side + tx] = true;
+          }
+      }
+      const std::vector<bool> surface = SurfaceTexels(geometry, level);
+      int missed = 0, surface_count = 0;
+      for (size_t i = 0; i < surface.size(); ++i) {
+        surface_count += surface[i];
+        missed += surface[i] && !visited[i];
+      }
+      EXPECT_GT(surface_count, 0);
+      EXPECT_EQ(missed, 0);
+      // On a 128² atlas the charts leave whole tiles free at level 0 (coarser, they touch all).
+      if (level == 0 && lanes <= 8)
+        EXPECT_LT(std::count(visited.begin(), visited.end(), true), std::ptrdiff_t(visited.size()));
+    }
   }
 }
 

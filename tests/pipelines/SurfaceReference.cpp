@@ -136,10 +136,14 @@ std::vector<std::vector<Image>> LoadReferencePyramids(const Scene& scene, int le
 }
 
 uint32_t SurfaceTexelCount(const SceneGeometry& geometry, int level) {
-  const int side = geometry.atlas.size >> level;
-  uint32_t n = 0;
-  for (const TexelHit& h : LocateTexels(geometry, side)) n += h.triangle >= 0;
-  return n;
+  const std::vector<bool> surface = SurfaceTexels(geometry, level);
+  return uint32_t(std::count(surface.begin(), surface.end(), true));
+}
+
+std::vector<bool> SurfaceTexels(const SceneGeometry& geometry, int level) {
+  std::vector<bool> surface;
+  for (const TexelHit& h : LocateTexels(geometry, geometry.atlas.size >> level)) surface.push_back(h.triangle >= 0);
+  return surface;
 }
 
 TexelStatistic ReferenceTexelStatistic(const std::vector<ViewSample>& views, const LikelihoodModel& model,

@@ -125,5 +125,7 @@ std::vector<double> With(const Scene& scene, std::vector<double> psi, const std:
 
 // Number of atlas texels whose centre lies on a triangle at `level` (independent of Ψ).
 uint32_t SurfaceTexelCount(const SceneGeometry& geometry, int level);
+// Those texels, row-major over the level's atlas: true where a centre lies on a triangle.
+std::vector<bool> SurfaceTexels(const SceneGeometry& geometry, int level);
 
 }  // namespace vkr::test

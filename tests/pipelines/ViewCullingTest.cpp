@@ -1,0 +1,119 @@
+// ViewCulling (pipelines/passes/ViewCulling.h) on primitives whose answer is plain geometry:
+// what faces away from a camera or lies outside its frustum is unseen, what it might see is
+// shaded, and the two lists always cover the index buffer once.
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+
+#include "engine/geometry/Mesh.h"
+#include "pipelines/passes/Projection.h"
+#include "pipelines/passes/ViewCulling.h"
+
+namespace vkr::test {
+namespace {
+
+// One node of `kind` at the origin (unit size), as the likelihoods draw it.
+SceneGeometry OneNode(PrimitiveKind kind) {
+  Scene scene;
+  scene.file = "/nowhere/scene.json";
+  Node node;
+  node.name = "node";
+  node.primitive = kind;
+  scene.nodes.push_back(node);
+  return BuildSceneGeometry(scene, {}, 256);
+}
+
+// A 640×480 camera at `centre` looking at `target`, z up.
+Camera LookAt(const Eigen::Vector3d& centre, const Eigen::Vector3d& target) {
+  Camera c;
+  c.width = 640;
+  c.height = 480;
+  c.K << 500, 0, 320, 0, 500, 240, 0, 0, 1;
+  c.cam_from_world = CamFromWorldLookingAt(centre, target);
+  return c;
+}
+
+ViewDraws Classify(const SceneGeometry& g, const Eigen::Matrix4d& world_from_node, const Camera& camera) {
+  return ViewCulling(g).Classify({world_from_node}, ClipFromWorld(camera), camera.Centre(), kDefaultNear);
+}
+
+// Faces (by index in the mesh) some of whose indices are drawn unseen.
+std::vector<uint32_t> UnseenFaces(const SceneGeometry& g, const ViewDraws& d) {
+  std::vector<uint32_t> faces;
+  for (const IndexRun& r : d.unseen)
+    for (uint32_t i = r.first; i < r.first + r.count; ++i) {
+      const uint32_t f = g.vertices[g.indices[i]].face;
+      if (faces.empty() || faces.back() != f) faces.push_back(f);
+    }
+  return faces;
+}
+
+uint32_t Total(const std::vector<IndexRun>& runs) {
+  uint32_t n = 0;
+  for (const IndexRun& r : runs) n += r.count;
+  return n;
+}
+
+TEST(ViewCulling, TheFacesOfABoxTurnedAwayAreUnseen) {
+  const SceneGeometry g = OneNode(PrimitiveKind::Box);
+  // From 5 m out along +x and 3 m up it sees the +x face and the top; from y = 0, between
+  // the planes of the ±y faces, those face away like -x and the bottom.
+  const Camera camera = LookAt({5, 0, 3}, {0, 0, 0.5});
+  const ViewDraws d = Classify(g, Eigen::Matrix4d::Identity(), camera);
+  // Box faces: -y, +x, +y, -x, top, bottom (Primitives.cpp).
+  EXPECT_EQ(UnseenFaces(g, d), (std::vector<uint32_t>{0, 2, 3, 5}));
+  EXPECT_EQ(Total(d.shaded) + Total(d.unseen), uint32_t(g.indices.size()));
+}
+
+TEST(ViewCulling, ANodeMatrixTurnsTheFacesWithIt) {
+  const SceneGeometry g = OneNode(PrimitiveKind::Box);
+  const Camera camera = LookAt({5, 0, 3}, {0, 0, 0.5});
+  // Yawed 180°: the -x face now faces the camera and +x turns away.
+  Eigen::Matrix4d yaw = Eigen::Matrix4d::Identity();
+  yaw.topLeftCorner<3, 3>() = Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  EXPECT_EQ(UnseenFaces(g, Classify(g, yaw, camera)), (std::vector<uint32_t>{0, 1, 2, 5}));
+  // A non-uniform scale: the faces keep their sides.
+  const Eigen::Matrix4d stretch = Eigen::Vector4d(3.0, 0.5, 2.0, 1.0).asDiagonal();
+  EXPECT_EQ(UnseenFaces(g, Classify(g, stretch, camera)), (std::vector<uint32_t>{0, 2, 3, 5}));
+}
+
+TEST(ViewCulling, GroundOutsideTheFrustumIsUnseenAndGroundInsideShaded) {
+  const SceneGeometry g = OneNode(PrimitiveKind::Plane);
+  const Eigen::Matrix4d ground = Eigen::Vector4d(40.0, 40.0, 1.0, 1.0).asDiagonal();
+  // Looking down at the middle from 3 m: it sees a few metres of a 40 m ground.
+  const Camera down = LookAt({0, -0.01, 3}, {0, 0, 0});
+  const ViewDraws d = Classify(g, ground, down);
+  EXPECT_GT(Total(d.unseen), 0u);
+  EXPECT_GT(Total(d.shaded), 0u);
+  EXPECT_LT(Total(d.shaded), uint32_t(g.indices.size()) / 4);
+  EXPECT_EQ(Total(d.shaded) + Total(d.unseen), uint32_t(g.indices.size()));
+  // From below the ground faces away entirely.
+  const Camera below = LookAt({0, -0.01, -3}, {0, 0, 0});
+  EXPECT_EQ(Total(Classify(g, ground, below).shaded), 0u);
+  // Behind the camera, even facing it: unseen. Ground far ahead along the view: shaded.
+  const Camera level = LookAt({0, -30, 1}, {0, -60, 1});
+  const ViewDraws behind = Classify(g, ground, level);
+  EXPECT_GT(Total(behind.unseen), 0u);
+}
+
+TEST(ViewCulling, CurvedFacesAreNeverTakenForBackFacing) {
+  const SceneGeometry g = OneNode(PrimitiveKind::Cylinder);
+  // Seen from the side: the cylinder's far half faces away, but its normals vary over each
+  // cluster, so only the frustum test may cull it — and all of it is in view.
+  const Camera camera = LookAt({6, 0, 2}, {0, 0, 0.5});
+  const ViewDraws d = Classify(g, Eigen::Matrix4d::Identity(), camera);
+  // Cylinder faces: side, top, bottom; only the bottom cap (flat, facing down) is unseen.
+  EXPECT_EQ(UnseenFaces(g, d), (std::vector<uint32_t>{2}));
+}
+
+TEST(ViewCulling, ShadeAllDrawsEverythingOnce) {
+  const SceneGeometry g = OneNode(PrimitiveKind::Prism);
+  const ViewDraws d = ViewCulling(g).ShadeAll();
+  EXPECT_TRUE(d.unseen.empty());
+  ASSERT_EQ(d.shaded.size(), 1u);
+  EXPECT_EQ(d.shaded[0].count, uint32_t(g.indices.size()));
+}
+
+}  // namespace
+}  // namespace vkr::test
