@@ -224,7 +224,9 @@ nlohmann::json PeersJson(const PeersReport& report) {
   const PeersOptions& o = report.options;
   std::vector<std::string> methods = {"run"};
   for (opt::SearchMethod m : o.methods) methods.push_back(opt::ToString(m));
-  return {{"device", report.device}, {"sigma", o.sigma}, {"scale", o.scale}, {"budget", o.budget},
+  nlohmann::json overrides = nlohmann::json::array();
+  for (const SceneOverride& set : o.overrides) overrides.push_back(set.path + "=" + set.value);
+  return {{"device", report.device}, {"sigma", o.sigma}, {"overrides", overrides}, {"scale", o.scale}, {"budget", o.budget},
           {"tolerance", o.tolerance}, {"seeds", o.seeds}, {"assets", o.assets}, {"methods", methods},
           {"quick", o.quick}, {"wall_s", report.wall_s}, {"rows", rows}};
 }

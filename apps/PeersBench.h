@@ -78,7 +78,7 @@ void CheckPeersOptions(const PeersOptions& options);
 
 PeersReport RunPeers(const PeersOptions& options, vk::Device& device, const PeersProgress& progress);
 
-// {"device", "sigma", "scale", "budget", "tolerance", "seeds", "assets", "wall_s",
+// {"device", "sigma", "overrides", "scale", "budget", "tolerance", "seeds", "assets", "wall_s",
 //  "rows": [PeersRow as an object]}; NaN as null.
 nlohmann::json PeersJson(const PeersReport& report);
 // Per asset and method, over the seeds: how many reached the tolerance, medians of what it

@@ -55,6 +55,9 @@ def summary(rows, assets, methods):
 def section(data, plot_name, notes):
     assets, methods = data["assets"], data["methods"]
     s = summary(data["rows"], assets, methods)
+    # What the bench set for every search (`run` at fewer iterations than the assets' 600).
+    sets = data.get("overrides")
+    overrides = f"Every search with `--set {' --set '.join(sets)}`. " if sets else ""
     w = []
     w.append("## Peers: finding the MAP, `run` against NLopt")
     w.append("")
@@ -62,8 +65,8 @@ def section(data, plot_name, notes):
              f"({', '.join(map(str, data['seeds']))}) at σ = {data['sigma']:g} on images at {data['scale']:g}× the "
              f"asset's size, each method from the prior centre on the same likelihood; NLopt's methods "
              f"(`vkrecon fit`, coarse-to-fine) with a budget of {data['budget']:g} full-resolution-equivalent "
-             f"evaluations (a level-l evaluation counts 4^-l), `run` as it is (its own schedule, then "
-             f"the BOBYQA polish). \"To 1 %\": spent when the running MAP first had every parameter within "
+             f"evaluations (a level-l evaluation counts 4^-l), `run` with its own schedule, then "
+             f"the BOBYQA polish. {overrides}\"To 1 %\": spent when the running MAP first had every parameter within "
              f"{100 * data['tolerance']:g} % of its prior width of the truth (medians over the seeds that got "
              f"there); the error columns: the final MAP's median and largest |MAP − truth| / prior width "
              f"(medians over the seeds). Wall time from the call (photographs loaded, pipelines built) to the "
