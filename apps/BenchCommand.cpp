@@ -67,7 +67,7 @@ int RunBench(int argc, char** argv) {
   app.add_option("--only", only,
                  "run one row (house, cameras/8, triangles/1008, ...) or one sweep (triangles, backfacing, "
                  "near_clip, cameras, atlas, batch, assets), or only the ceilings or the soak; `peers` compares "
-                 "`run` with NLopt's methods at finding the MAP (4 assets x 5 seeds at sigma 16, ~45 min; "
+                 "`run` with NLopt's methods at finding the MAP (4 assets x 5 seeds at sigma 16, ~40 min; "
                  "--quick: box and poster, 1 seed, small images)");
   app.add_flag("--quick", quick, "small images, atlases and sweeps, a short soak: for CI and tests");
   app.add_option("--plots", plots, "write PNG plots of every sweep into this folder");
