@@ -134,6 +134,9 @@ struct LikelihoodSettings {
   // Per-camera colour correction of the surface likelihood: "none", "gain" or "affine"
   // (pipelines/model/Photometric.h).
   std::string photometric = "affine";
+  // Whether each hypothesis of a batch gets its own GPU images: "auto" | "shared" | "per_slot"
+  // (pipelines/likelihood/SurfaceLikelihood.h, SlotImages).
+  std::string slot_images = "auto";
   // Mask what the photographs show that the scene leaves out, found at the mode a run
   // settles on (pipelines/likelihood/ClutterMasks.h).
   bool clutter = true;

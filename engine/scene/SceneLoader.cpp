@@ -73,7 +73,7 @@ bool IsWord(const Reader& r, const Json& j, const std::string& path, const char*
 
 void ReadLikelihood(const Reader& r, const Json& j, LikelihoodSettings& s) {
   const std::string path = "likelihood";
-  r.CheckObject(j, path, {"kind", "sigma", "weights", "atlas", "levels", "photometric", "clutter"});
+  r.CheckObject(j, path, {"kind", "sigma", "weights", "atlas", "levels", "photometric", "clutter", "slot_images"});
   if (auto it = j.find("kind"); it != j.end()) {
     s.kind = r.String(*it, "likelihood.kind");
     if (s.kind != "surface" && s.kind != "image")
@@ -104,6 +104,11 @@ void ReadLikelihood(const Reader& r, const Json& j, LikelihoodSettings& s) {
     s.levels = 0;
   else if (it != j.end())
     s.levels = int(r.Integer(*it, "likelihood.levels", 1, 8));
+  if (auto it = j.find("slot_images"); it != j.end()) {
+    s.slot_images = r.String(*it, "likelihood.slot_images");
+    if (s.slot_images != "auto" && s.slot_images != "shared" && s.slot_images != "per_slot")
+      r.Fail("likelihood.slot_images", "unknown value '" + s.slot_images + "' (auto, shared, per_slot)");
+  }
   if (auto it = j.find("photometric"); it != j.end()) {
     s.photometric = r.String(*it, "likelihood.photometric");
     if (s.photometric != "none" && s.photometric != "gain" && s.photometric != "affine")

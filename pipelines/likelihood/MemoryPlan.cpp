@@ -40,7 +40,7 @@ std::string Times(uint64_t a, uint64_t b) { return std::to_string(a) + " × " + 
 // What every likelihood keeps per camera: the photograph with its mips (RGBA8), the validity
 // (R8, when the camera has a mask or a lens), one depth map (D32F) per level; and the staging
 // buffer, which keeps the largest upload. The host peak is one photograph's float pyramid.
-void PlanCameras(const Scene& scene, int levels, MemoryPlan* plan) {
+void PlanCameras(const Scene& scene, int levels, MemoryPlan* plan, int depth_copies = 1) {
   uint64_t largest_mips = 0, largest_photo = 0;
   for (const CameraModel& c : scene.cameras) {
     const uint64_t w = uint64_t(std::max(1, c.width)), h = uint64_t(std::max(1, c.height));
@@ -49,8 +49,10 @@ void PlanCameras(const Scene& scene, int levels, MemoryPlan* plan) {
     if (!c.mask.empty() || !c.distortion.IsNone())
       plan->device.push_back({c.name + " validity " + Times(w, h) + " R8 with mips", mips});
     for (int l = 0; l < levels; ++l)
-      plan->device.push_back({c.name + " depth level " + std::to_string(l),
-                              CeilDiv(w, uint64_t(1) << l) * CeilDiv(h, uint64_t(1) << l) * 4});
+      plan->device.push_back({c.name + " depth level " + std::to_string(l) +
+                                  (depth_copies > 1 ? " × " + std::to_string(depth_copies) + " slots" : ""),
+                              CeilDiv(w, uint64_t(1) << l) * CeilDiv(h, uint64_t(1) << l) * 4 * uint64_t(depth_copies),
+                              depth_copies > 1});
     largest_mips = std::max(largest_mips, mips);
     largest_photo = std::max(largest_photo, w * h);
   }
@@ -106,11 +108,15 @@ MemoryLimits MemoryLimits::Of(const vk::Device& device) {
 
 MemoryPlan PlanSurfaceLikelihood(const Scene& scene, const SurfaceLikelihoodOptions& options, uint32_t subgroup_size) {
   MemoryPlan plan;
-  PlanCameras(scene, options.levels, &plan);
+  // Per-slot images (SlotImages): the depth maps, view layers and mask once per hypothesis.
+  const bool per_slot = options.slot_images == SlotImages::PerSlot;
+  const uint64_t copies = per_slot ? uint64_t(options.max_batch) : 1;
+  const std::string times = per_slot ? " × " + std::to_string(copies) + " slots" : "";
+  PlanCameras(scene, options.levels, &plan, int(copies));
   const uint64_t atlas = uint64_t(options.atlas), texels = atlas * atlas, n = scene.cameras.size();
   const std::string side = std::to_string(atlas) + "²";
-  plan.device.push_back({"view textures " + std::to_string(n) + " × " + side + " × 8 B", n * texels * 8});
-  plan.device.push_back({"interior mask " + side + " × 4 B", texels * 4});
+  plan.device.push_back({"view textures " + std::to_string(n) + " × " + side + " × 8 B" + times, copies * n * texels * 8, per_slot});
+  plan.device.push_back({"interior mask " + side + " × 4 B" + times, copies * texels * 4, per_slot});
   for (const char* image : {"composite", "deviation", "noise"})  // written by dumps, allocated always
     plan.device.push_back({std::string(image) + " image " + side + " × 16 B", texels * 16});
   const uint64_t groups = CeilDiv(atlas, std::max<uint32_t>(1, subgroup_size)) * CeilDiv(atlas, kRowsPerInvocation);

@@ -45,6 +45,33 @@ bool SurfaceLikelihoodOptions::IsValid(std::string* why) const {
   return true;
 }
 
+const char* ToString(SlotImages s) {
+  return s == SlotImages::Shared ? "shared" : s == SlotImages::PerSlot ? "per_slot" : "auto";
+}
+
+bool FromString(const std::string& s, SlotImages* out) {
+  if (s == "auto") *out = SlotImages::Auto;
+  else if (s == "shared") *out = SlotImages::Shared;
+  else if (s == "per_slot") *out = SlotImages::PerSlot;
+  else return false;
+  return true;
+}
+
+SurfaceLikelihoodOptions ResolveSlotImages(const SurfaceLikelihoodOptions& options, const Scene& scene,
+                                           const vk::Device& device) {
+  SurfaceLikelihoodOptions o = options;
+  if (o.slot_images != SlotImages::Auto) return o;
+  // A CPU device runs one hypothesis at a time whatever the barriers say (lavapipe), so
+  // copies would cost memory for nothing; a GPU gets them where they fit.
+  o.slot_images = SlotImages::Shared;
+  if (device.is_cpu() || o.max_batch == 1) return o;
+  SurfaceLikelihoodOptions per_slot = o;
+  per_slot.slot_images = SlotImages::PerSlot;
+  if (WhyItDoesNotFit(PlanSurfaceLikelihood(scene, per_slot, device.subgroup_size()), MemoryLimits::Of(device)).empty())
+    o.slot_images = SlotImages::PerSlot;
+  return o;
+}
+
 SurfaceLikelihoodOptions SurfaceLikelihoodOptions::FromScene(const Scene& scene) {
   SurfaceLikelihoodOptions o;
   o.model.sigma = scene.likelihood.sigma;
@@ -56,6 +83,8 @@ SurfaceLikelihoodOptions SurfaceLikelihoodOptions::FromScene(const Scene& scene)
   o.atlas = resolved.atlas;
   o.levels = resolved.levels;
   o.max_batch = scene.sampler.batch;
+  if (!FromString(scene.likelihood.slot_images, &o.slot_images))
+    throw InputError(scene.file.string(), "likelihood.slot_images", "must be auto, shared or per_slot");
   return o;
 }
 
@@ -65,9 +94,19 @@ namespace surface_detail {
 struct CameraImages {
   vk::GpuImage reference;           // RGBA8, encoded colour, mip m = pyramid level m
   vk::GpuImage validity;            // R8, the reference's mips: 1 = comparable (none: every pixel is)
-  std::vector<vk::GpuImage> depth;  // D32F, one per likelihood level
   Image own_validity;               // the camera's mask and lens frame (empty: all valid), before clutter
   int width = 0, height = 0;
+};
+
+// What one hypothesis of a submission writes and reads back: its cameras' depth maps, the
+// view layers and the interior mask. Shared by every slot of a batch (the hypotheses then
+// follow one another, ordered by barriers), or one set per slot so that a GPU may overlap
+// them (SlotImages::PerSlot).
+struct SlotImages {
+  vk::GpuImage views, mask;
+  std::vector<vk::ImageView> view_layers;
+  std::vector<std::vector<vk::GpuImage>> depth;  // [camera][level], D32F
+  bool defined = false;  // the view layers have been cleared once
 };
 
 }  // namespace surface_detail
@@ -88,8 +127,7 @@ struct SurfaceLikelihood::Impl {
   vk::CommandContext context;
   GpuScene gpu_scene;
   std::vector<surface_detail::CameraImages> cameras;
-  vk::GpuImage views, mask;
-  std::vector<vk::ImageView> view_layers;
+  std::vector<surface_detail::SlotImages> slots;  // one, or one per hypothesis slot
   DepthPass depth_pass;
   std::unique_ptr<ViewTexturePass> view_pass;
   InteriorPass interior_pass;
@@ -99,7 +137,6 @@ struct SurfaceLikelihood::Impl {
   PhotometricCorrection photometric;
   int level = 0;
   int last_batch = 0;
-  bool views_defined = false;  // the view layers have been cleared once
 
   Impl(vk::Device& d, const Scene& s, const SurfaceLikelihoodOptions& o)
       : device(&d),
@@ -118,11 +155,18 @@ struct SurfaceLikelihood::Impl {
   // Camera i's images, at every level, for the view pass (at creation, and when its
   // validity changes: between submissions, never while one is in flight).
   void BindCamera(int i) {
-    const int levels = options.levels;
-    for (int l = 0; l < levels; ++l)
-      view_pass->BindImages(i * levels + l, cameras[size_t(i)].reference.view(), cameras[size_t(i)].depth[size_t(l)].view(),
-                            cameras[size_t(i)].validity.view());
+    for (size_t s = 0; s < slots.size(); ++s)
+      for (int l = 0; l < options.levels; ++l)
+        view_pass->BindImages(ViewBinding(int(s), i, l), cameras[size_t(i)].reference.view(),
+                              slots[s].depth[size_t(i)][size_t(l)].view(), cameras[size_t(i)].validity.view());
   }
+
+  // The view pass's image set of camera i at level l for the images of `slot_images`.
+  int ViewBinding(int slot_images, int i, int l) const {
+    return (slot_images * int(cameras.size()) + i) * options.levels + l;
+  }
+  // The images hypothesis slot `slot` uses.
+  int ImagesOf(int slot) const { return slots.size() > 1 ? slot : 0; }
 
   ViewCamera LevelCamera(const Camera& camera) const {
     ViewCamera v;
@@ -149,13 +193,19 @@ struct SurfaceLikelihood::Impl {
                         const std::vector<Eigen::Matrix4d>& world_from_node, bool dump, bool clear_views) const {
     const uint32_t ts = uint32_t(slot) * kTimestampsPerHypothesis;
     Timestamp(cmd, ts);
+    const int images = ImagesOf(slot);
+    const surface_detail::SlotImages& own = slots[size_t(images)];
+    // Shared images were read by the previous hypothesis of this submission: each write
+    // waits for those reads. A slot's own images were last used by an earlier, fenced
+    // submission: they need their layouts only, and no wait, so a GPU may overlap slots.
+    const bool shared = slots.size() == 1;
     std::vector<ViewCamera> views_at_level;
     for (size_t i = 0; i < cams.size(); ++i) {
       views_at_level.push_back(LevelCamera(cams[i]));
-      const vk::GpuImage& depth = cameras[i].depth[level];
+      const vk::GpuImage& depth = own.depth[i][size_t(level)];
       // The previous hypothesis's view pass read this depth map: write after read.
       vk::ImageBarrier(cmd, depth, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL,
-                       VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT, 0,
+                       shared ? VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT : VK_PIPELINE_STAGE_2_NONE, 0,
                        VK_PIPELINE_STAGE_2_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT,
                        VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_READ_BIT | VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT);
       depth_pass.record(cmd, views_at_level.back().clip_from_world, slot, depth);
@@ -166,29 +216,29 @@ struct SurfaceLikelihood::Impl {
     }
     Timestamp(cmd, ts + 1);
     // The previous hypothesis's composite read the views and the mask: write after read.
-    for (const vk::GpuImage* image : {&views, &mask})
+    for (const vk::GpuImage* image : {&own.views, &own.mask})
       vk::ImageBarrier(cmd, *image, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL,
-                       VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, 0,
+                       shared ? VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT : VK_PIPELINE_STAGE_2_NONE, 0,
                        VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT, VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT);
     const int levels = options.levels;
     for (size_t i = 0; i < cams.size(); ++i) {
       const ViewDraws draws = options.cull_views ? culling.Classify(world_from_node, views_at_level[i].clip_from_world,
                                                                     views_at_level[i].centre, kDefaultNear)
                                                  : culling.ShadeAll();
-      view_pass->record(cmd, views_at_level[i], draws, int(i) * levels + level, slot, view_layers[i], LevelAtlas(),
-                        clear_views);
+      view_pass->record(cmd, views_at_level[i], draws, ViewBinding(images, int(i), level), slot, own.view_layers[i],
+                        LevelAtlas(), clear_views || !own.defined);
     }
     Timestamp(cmd, ts + 2);
-    interior_pass.record(cmd, slot, mask, LevelAtlas());
+    interior_pass.record(cmd, slot, own.mask, LevelAtlas());
     Timestamp(cmd, ts + 3);
-    for (const vk::GpuImage* image : {&views, &mask})
+    for (const vk::GpuImage* image : {&own.views, &own.mask})
       vk::ImageBarrier(cmd, *image, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, VK_IMAGE_LAYOUT_GENERAL,
                        VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT, VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT,
                        VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
     if (dump)  // the previous dump's readback is done (fenced); only order against this write
       vk::MemoryBarrier(cmd, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_MEMORY_READ_BIT,
                         VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
-    composite_pass->record(cmd, slot, LevelAtlas(), options.model, dump);
+    composite_pass->record(cmd, slot, images, LevelAtlas(), options.model, dump);
     Timestamp(cmd, ts + 4);
   }
 
@@ -209,11 +259,11 @@ struct SurfaceLikelihood::Impl {
     }
     VkCommandBuffer cmd = context.Begin();
     if (timestamps) timestamps->Reset(cmd);
-    for (size_t k = 0; k < batch.size(); ++k) RecordHypothesis(cmd, int(k), cams[k], world[k], dump, dump || !views_defined);
+    for (size_t k = 0; k < batch.size(); ++k) RecordHypothesis(cmd, int(k), cams[k], world[k], dump, dump);
     composite_pass->record_reduce(cmd, int(batch.size()), LevelAtlas());
     if (timestamps) timestamps->Write(cmd, uint32_t(batch.size()) * kTimestampsPerHypothesis);
     context.SubmitAndWait();
-    views_defined = true;
+    for (size_t k = 0; k < batch.size(); ++k) slots[size_t(ImagesOf(int(k)))].defined = true;
     last_batch = int(batch.size());
     std::vector<Evaluation> out;
     for (size_t k = 0; k < batch.size(); ++k) out.push_back(Score(composite_pass->Result(int(k)), options.model));
@@ -227,8 +277,9 @@ SurfaceLikelihood::SurfaceLikelihood(vk::Device& device, const Scene& scene,
   if (!options.IsValid(&why)) throw std::invalid_argument("SurfaceLikelihoodOptions: " + why);
   if (scene.cameras.size() < 2)
     throw InputError(scene.file.string(), "cameras", "the surface likelihood needs at least 2 cameras");
-  RequireSurfaceLikelihoodFits(scene, options, device);  // before anything is allocated
-  impl_ = std::make_unique<Impl>(device, scene, options);
+  const SurfaceLikelihoodOptions resolved = ResolveSlotImages(options, scene, device);
+  RequireSurfaceLikelihoodFits(scene, resolved, device);  // before anything is allocated
+  impl_ = std::make_unique<Impl>(device, scene, resolved);
   Impl& m = *impl_;
   const int levels = options.levels, n = int(scene.cameras.size());
   for (int i = 0; i < n; ++i) {
@@ -240,27 +291,37 @@ SurfaceLikelihood::SurfaceLikelihood(vk::Device& device, const Scene& scene,
     images.own_validity = photo.validity;
     images.width = image.width;
     images.height = image.height;
-    for (int l = 0; l < levels; ++l) {
-      // Shadow maps at each level's resolution (any size works: they are looked up in
-      // normalised coordinates).
-      const uint32_t w = uint32_t(std::max(1, (image.width + (1 << l) - 1) >> l));
-      const uint32_t h = uint32_t(std::max(1, (image.height + (1 << l) - 1) >> l));
-      images.depth.emplace_back(device, vk::GpuImageInfo{w, h, 1, DepthPass::kFormat,
-                                                         VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT});
-    }
     m.cameras.push_back(std::move(images));
   }
   const uint32_t atlas = uint32_t(options.atlas);
-  m.views = vk::GpuImage(device, {atlas, atlas, uint32_t(n), ViewTexturePass::kFormat,
-                                  VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_STORAGE_BIT |
-                                      VK_IMAGE_USAGE_TRANSFER_SRC_BIT, true});
-  m.mask = vk::GpuImage(device, {atlas, atlas, 1, InteriorPass::kFormat,
-                                 VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_STORAGE_BIT});
-  for (int i = 0; i < n; ++i) m.view_layers.push_back(vk::CreateLayerView(device, m.views, uint32_t(i)));
-  m.view_pass = std::make_unique<ViewTexturePass>(device, m.gpu_scene, n * levels,
+  const int slot_sets = resolved.slot_images == SlotImages::PerSlot ? options.max_batch : 1;
+  std::vector<CompositePass::Inputs> composite_inputs;
+  for (int k = 0; k < slot_sets; ++k) {
+    surface_detail::SlotImages& slot = m.slots.emplace_back();
+    slot.views = vk::GpuImage(device, {atlas, atlas, uint32_t(n), ViewTexturePass::kFormat,
+                                       VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_STORAGE_BIT |
+                                           VK_IMAGE_USAGE_TRANSFER_SRC_BIT, true});
+    slot.mask = vk::GpuImage(device, {atlas, atlas, 1, InteriorPass::kFormat,
+                                      VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_STORAGE_BIT});
+    for (int i = 0; i < n; ++i) {
+      slot.view_layers.push_back(vk::CreateLayerView(device, slot.views, uint32_t(i)));
+      auto& depth = slot.depth.emplace_back();
+      for (int l = 0; l < levels; ++l) {
+        // Shadow maps at each level's resolution (any size works: they are looked up in
+        // normalised coordinates).
+        const int width = m.cameras[size_t(i)].width, height = m.cameras[size_t(i)].height;
+        const uint32_t w = uint32_t(std::max(1, (width + (1 << l) - 1) >> l));
+        const uint32_t h = uint32_t(std::max(1, (height + (1 << l) - 1) >> l));
+        depth.emplace_back(device, vk::GpuImageInfo{w, h, 1, DepthPass::kFormat,
+                                                    VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT});
+      }
+    }
+  }
+  for (const surface_detail::SlotImages& slot : m.slots) composite_inputs.push_back({&slot.views, &slot.mask});
+  m.view_pass = std::make_unique<ViewTexturePass>(device, m.gpu_scene, slot_sets * n * levels,
                                                   options.weights == ViewWeights::Angle, options.depth_tolerance);
   for (int i = 0; i < n; ++i) m.BindCamera(i);
-  m.composite_pass = std::make_unique<CompositePass>(device, m.views, m.mask, m.geometry.atlas, levels,
+  m.composite_pass = std::make_unique<CompositePass>(device, composite_inputs, m.geometry.atlas, levels,
                                                     options.max_batch);
   m.photometric = PhotometricCorrection::Identity(n);
   if (options.profile)
@@ -344,8 +405,9 @@ SurfaceDump SurfaceLikelihood::EvaluateAndDump(const std::vector<double>& psi, E
   SurfaceDump dump;
   std::vector<uint32_t> words(size_t(full) * full * 2);
   std::vector<float> floats(size_t(full) * full * 4), noise(floats.size(), 0.0f);
-  for (uint32_t i = 0; i < m.views.info().layers; ++i) {
-    m.transfer.ReadImage(m.views, i, VK_IMAGE_LAYOUT_GENERAL, words.data());
+  const vk::GpuImage& views = m.slots[0].views;  // the dump's one hypothesis is slot 0's
+  for (uint32_t i = 0; i < views.info().layers; ++i) {
+    m.transfer.ReadImage(views, i, VK_IMAGE_LAYOUT_GENERAL, words.data());
     for (size_t k = 0; k < size_t(full) * full; ++k) {
       const ViewTexel t = UnpackViewTexel(words[2 * k], words[2 * k + 1]);
       for (int c = 0; c < 3; ++c) floats[4 * k + size_t(c)] = t.colour[c];

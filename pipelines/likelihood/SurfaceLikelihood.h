@@ -26,6 +26,15 @@ enum class ViewWeights { Uniform, Angle };
 const char* ToString(ViewWeights w);
 bool FromString(const std::string& s, ViewWeights* w);
 
+// Where the hypotheses of one submission write their depth maps, view layers and interior
+// mask: one set shared by all (they run one after the other, ordered by barriers) or one
+// set per hypothesis slot (memory × K; a GPU may then overlap the hypotheses of a batch).
+// Auto: per slot on a GPU where it fits, shared on a CPU device. Results are the same to the
+// bit either way.
+enum class SlotImages { Auto, Shared, PerSlot };
+const char* ToString(SlotImages s);
+bool FromString(const std::string& s, SlotImages* out);
+
 struct SurfaceLikelihoodOptions {
   LikelihoodModel model;
   ViewWeights weights = ViewWeights::Angle;  // §6.3
@@ -41,6 +50,7 @@ struct SurfaceLikelihoodOptions {
   // Skip shading what a camera cannot see (ViewCulling.h). Off only to test that it changes
   // nothing.
   bool cull_views = true;
+  SlotImages slot_images = SlotImages::Auto;
 
   bool IsValid(std::string* why) const;
   // Reads σ, weights, atlas, levels and the photometric model from the scene's "likelihood" settings.
@@ -57,6 +67,10 @@ struct SurfaceDump {
   Image deviation;                   // r = χ_t, g = d_t, b = interior (1), a = 1 on surface
   Image noise;                       // r = texture share of the noise, g = outlier views, b = views, a = surface
 };
+
+// `options` with slot_images Auto resolved for `device` (SlotImages).
+SurfaceLikelihoodOptions ResolveSlotImages(const SurfaceLikelihoodOptions& options, const Scene& scene,
+                                           const vk::Device& device);
 
 class SurfaceLikelihood {
  public:

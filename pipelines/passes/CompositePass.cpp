@@ -66,18 +66,21 @@ uint32_t MostTiles(const std::vector<std::vector<uint32_t>>& tiles) {
 
 }  // namespace
 
-CompositePass::CompositePass(vk::Device& device, const vk::GpuImage& views, const vk::GpuImage& mask,
-                             const AtlasLayout& layout, int levels, int max_batch)
-    : CompositePass(device, views, mask, TilesPerLevel(layout, levels, device.subgroup_size()), max_batch) {}
+CompositePass::CompositePass(vk::Device& device, const std::vector<Inputs>& inputs, const AtlasLayout& layout,
+                             int levels, int max_batch)
+    : CompositePass(device, inputs, TilesPerLevel(layout, levels, device.subgroup_size()), max_batch) {}
 
-CompositePass::CompositePass(vk::Device& device, const vk::GpuImage& views, const vk::GpuImage& mask,
+CompositePass::CompositePass(vk::Device& device, const std::vector<Inputs>& inputs,
                              const std::vector<std::vector<uint32_t>>& tiles, int max_batch)
-    : view_count_(views.info().layers),
+    : view_count_(inputs.at(0).views->info().layers),
       lanes_(device.subgroup_size()),
-      atlas_size_(views.info().width),
+      atlas_size_(inputs.at(0).views->info().width),
       reduce_(device, max_batch, MostTiles(tiles)),
-      photometric_(device, VkDeviceSize(views.info().layers) * 8 * sizeof(float), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+      photometric_(device, VkDeviceSize(view_count_) * 8 * sizeof(float), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
                    vk::MemoryUse::Upload) {
+  for (const Inputs& in : inputs)
+    if (in.views->info().layers != view_count_ || in.views->info().width != atlas_size_)
+      throw std::invalid_argument("CompositePass: input sets of different view counts or sizes");
   size_t all = 0;
   for (const auto& t : tiles) all += t.size();
   tiles_ = vk::Buffer(device, VkDeviceSize(std::max<size_t>(all, 2)) * sizeof(uint32_t),
@@ -89,7 +92,7 @@ CompositePass::CompositePass(vk::Device& device, const vk::GpuImage& views, cons
     tile_count_.push_back(uint32_t(t.size() / 2));
     offset += uint32_t(t.size());
   }
-  const uint32_t size = views.info().width;
+  const uint32_t size = atlas_size_;
   const VkImageUsageFlags dump_usage =
       VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT;
   composite_ = vk::GpuImage(device, {size, size, 1, VK_FORMAT_R32G32B32A32_SFLOAT, dump_usage});
@@ -105,18 +108,20 @@ CompositePass::CompositePass(vk::Device& device, const vk::GpuImage& views, cons
   composite_set_layout_ = CreateDescriptorSetLayout(device, composite_bindings);
   composite_layout_ = CreatePipelineLayout(device, composite_set_layout_, sizeof(CompositePush),
                                            VK_SHADER_STAGE_COMPUTE_BIT);
-  DescriptorSets cs = AllocateDescriptorSets(device, composite_set_layout_, composite_bindings);
+  DescriptorSets cs = AllocateDescriptorSets(device, composite_set_layout_, composite_bindings, uint32_t(inputs.size()));
   composite_pool_ = std::move(cs.pool);
-  composite_set_ = cs.sets[0];
-  WriteStorageImage(device, composite_set_, 0, views.view());
-  WriteStorageImage(device, composite_set_, 1, mask.view());
-  WriteStorageBuffer(device, composite_set_, 2, reduce_.partials());
-  WriteStorageImage(device, composite_set_, 3, composite_.view());
-  WriteStorageImage(device, composite_set_, 4, deviation_.view());
-  WriteStorageBuffer(device, composite_set_, 5, photometric_);
-  WriteStorageImage(device, composite_set_, 6, noise_.view());
-  WriteStorageBuffer(device, composite_set_, 7, tiles_);
-
+  composite_sets_ = std::move(cs.sets);
+  for (size_t k = 0; k < inputs.size(); ++k) {
+    const VkDescriptorSet set = composite_sets_[k];
+    WriteStorageImage(device, set, 0, inputs[k].views->view());
+    WriteStorageImage(device, set, 1, inputs[k].mask->view());
+    WriteStorageBuffer(device, set, 2, reduce_.partials());
+    WriteStorageImage(device, set, 3, composite_.view());
+    WriteStorageImage(device, set, 4, deviation_.view());
+    WriteStorageBuffer(device, set, 5, photometric_);
+    WriteStorageImage(device, set, 6, noise_.view());
+    WriteStorageBuffer(device, set, 7, tiles_);
+  }
 
   const vk::ShaderModule composite = vk::CreateShaderModule(device, kCompositeComp, sizeof(kCompositeComp));
   composite_pipeline_ = CreateSubgroupComputePipeline(device, composite, composite_layout_, {view_count_});
@@ -155,8 +160,8 @@ void CompositePass::SetPhotometric(const PhotometricCorrection& correction) {
   }
 }
 
-void CompositePass::record(VkCommandBuffer cmd, int slot, uint32_t level_size, const LikelihoodModel& model,
-                           bool write_images) const {
+void CompositePass::record(VkCommandBuffer cmd, int slot, int inputs, uint32_t level_size,
+                           const LikelihoodModel& model, bool write_images) const {
   const double sigma = model.sigma / 255.0;
   const CompositePush push{level_size,
                            uint32_t(slot) * reduce_.partial_stride(),
@@ -167,7 +172,7 @@ void CompositePass::record(VkCommandBuffer cmd, int slot, uint32_t level_size, c
                            tile_offset_[size_t(Level(level_size))]};
   vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, composite_pipeline_);
   vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, composite_layout_, 0, 1,
-                          &composite_set_, 0, nullptr);
+                          &composite_sets_.at(size_t(inputs)), 0, nullptr);
   vkCmdPushConstants(cmd, composite_layout_, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(push), &push);
   const uint32_t tiles = tile_count_[size_t(Level(level_size))];
   if (write_images) {  // texels off the charts are not visited: let them read 0 in the dumps

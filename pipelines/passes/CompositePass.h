@@ -15,12 +15,18 @@ namespace vkr {
 
 class CompositePass {
  public:
-  // `views`: the view-texture array (ViewTexturePass::kFormat); `mask`: the R32_UINT interior
-  // mask; both of side `layout.size` (level 0) and in GENERAL layout when recorded. Only the
-  // workgroup tiles that touch a chart of `layout` are composited, at each of `levels`
-  // levels: texels off the charts are no surface and add nothing.
-  CompositePass(vk::Device& device, const vk::GpuImage& views, const vk::GpuImage& mask,
-                const AtlasLayout& layout, int levels, int max_batch);
+  // What a hypothesis composites: `views`, the view-texture array (ViewTexturePass::kFormat),
+  // and `mask`, the R32_UINT interior mask; both of side `layout.size` (level 0) and in
+  // GENERAL layout when recorded.
+  struct Inputs {
+    const vk::GpuImage* views = nullptr;
+    const vk::GpuImage* mask = nullptr;
+  };
+  // `inputs`: one set, or one per hypothesis slot (SlotImages), all with the same number of
+  // views. Only the workgroup tiles that touch a chart of `layout` are composited, at each
+  // of `levels` levels: texels off the charts are no surface and add nothing.
+  CompositePass(vk::Device& device, const std::vector<Inputs>& inputs, const AtlasLayout& layout, int levels,
+                int max_batch);
 
   // The per-camera colour correction of the next recordings' submissions (host-visible
   // memory: call between submissions).
@@ -30,7 +36,8 @@ class CompositePass {
   // `level_size` with the noise model of `model` (σ, δ, K)
   // and writes its per-workgroup partial sums; with `write_images`, also the composite,
   // deviation and noise images (for dumps).
-  void record(VkCommandBuffer cmd, int slot, uint32_t level_size, const LikelihoodModel& model,
+  // `inputs`: which of the constructor's input sets it reads.
+  void record(VkCommandBuffer cmd, int slot, int inputs, uint32_t level_size, const LikelihoodModel& model,
               bool write_images) const;
   // Sums the partials of slots [0, batch) into the results; makes them visible to the host.
   void record_reduce(VkCommandBuffer cmd, int batch, uint32_t level_size) const;
@@ -53,7 +60,7 @@ class CompositePass {
   const vk::GpuImage& noise() const { return noise_; }
 
  private:
-  CompositePass(vk::Device& device, const vk::GpuImage& views, const vk::GpuImage& mask,
+  CompositePass(vk::Device& device, const std::vector<Inputs>& inputs,
                 const std::vector<std::vector<uint32_t>>& tiles, int max_batch);
   int Level(uint32_t level_size) const;
 
@@ -70,7 +77,7 @@ class CompositePass {
   vk::DescriptorSetLayout composite_set_layout_;
   vk::PipelineLayout composite_layout_;
   vk::DescriptorPool composite_pool_;
-  VkDescriptorSet composite_set_ = VK_NULL_HANDLE;
+  std::vector<VkDescriptorSet> composite_sets_;  // one per input set
   vk::Pipeline composite_pipeline_;
 };
 

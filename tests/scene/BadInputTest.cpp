@@ -259,6 +259,8 @@ TEST(BadInput, VersionAndSettings) {
   EXPECT_TRUE(LoadFails(dir, scene, {"likelihood.levels"}));
   scene["likelihood"] = Json{{"kind", "volume"}};
   EXPECT_TRUE(LoadFails(dir, scene, {"likelihood.kind", "unknown kind 'volume'"}));
+  scene["likelihood"] = Json{{"slot_images", "each"}};
+  EXPECT_TRUE(LoadFails(dir, scene, {"likelihood.slot_images", "unknown value 'each'", "per_slot"}));
   scene.erase("likelihood");
   scene["synth"] = Json{{"sun", {0, 95}}};
   EXPECT_TRUE(LoadFails(dir, scene, {"synth.sun[1]", "must be in (0, 90]"}));
