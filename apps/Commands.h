@@ -20,6 +20,7 @@ int RunRender(int argc, char** argv);
 int RunLikelihood(int argc, char** argv);
 int RunBench(int argc, char** argv);
 int RunRun(int argc, char** argv);
+int RunFit(int argc, char** argv);
 int RunReport(int argc, char** argv);
 
 // Parses argv; returns an exit status when the command should stop now (--help: 0 after

@@ -4,6 +4,7 @@
 #include "apps/DistributedTarget.h"
 #include "apps/Ranks.h"
 #include "apps/Report.h"
+#include "apps/SceneTarget.h"
 
 #include <unistd.h>
 
@@ -19,8 +20,8 @@
 #include <sstream>
 
 #include "engine/common/InputError.h"
-#include "engine/geometry/AtlasFootprint.h"
 #include "engine/geometry/SceneGeometry.h"
+#include "optimiser/Polish.h"
 #include "optimiser/Sampler.h"
 #include "pipelines/likelihood/LikelihoodTool.h"
 #include "pipelines/rendering/ModelExport.h"
@@ -35,121 +36,6 @@ namespace vkr::app {
 namespace {
 
 std::atomic<bool> g_stop{false};
-
-// Writes through a temporary file and a rename: a run killed mid-write leaves the previous
-// checkpoint intact.
-void WriteAtomically(const fs::path& file, const std::string& text) {
-  const fs::path tmp = file.string() + ".tmp";
-  {
-    std::ofstream out(tmp, std::ios::binary);
-    out << text;
-    if (!out) throw std::runtime_error("cannot write " + tmp.string());
-  }
-  fs::rename(tmp, file);
-}
-
-void WritePngAtomically(const fs::path& file, const Image& image) {
-  const fs::path tmp = file.parent_path() / (file.stem().string() + ".tmp.png");
-  WritePng(tmp, image);
-  fs::rename(tmp, file);
-}
-
-// Where a checkpoint's clutter masks live, relative to the output folder. Each settling
-// round may find other masks; a file named by its content is never overwritten with other
-// masks, so a checkpoint always reloads exactly the masks it was written with, wherever a
-// run is killed (a fixed name was overwritten by the next round before the checkpoint that
-// named it was replaced, and a resumed run diverged).
-constexpr const char* kCheckpointMasks = "checkpoint-clutter";
-
-std::string MaskFileName(const std::string& camera, const Image& mask) {
-  uint64_t hash = 1469598103934665603ull;  // FNV-1a over the pixels' bytes
-  const auto* bytes = reinterpret_cast<const unsigned char*>(mask.rgba.data());
-  for (size_t i = 0; i < mask.rgba.size() * sizeof(float); ++i) hash = (hash ^ bytes[i]) * 1099511628211ull;
-  char hex[17];
-  std::snprintf(hex, sizeof hex, "%016llx", static_cast<unsigned long long>(hash));
-  return std::string(kCheckpointMasks) + "/" + camera + "-" + hex + ".png";
-}
-
-// The sampler's view of a likelihood: a batch of Ψ in, log likelihood + occlusion prior out,
-// divided by the sandwich factor κ once the run has settled at the mode and calibrated the
-// noise model there (NoiseCalibration.h).
-class LikelihoodTarget : public opt::Target {
- public:
-  // `output_dir`: where the clutter masks found at the mode are kept, in clutter/ (they are
-  // images, so the calibration that checkpoints carry names their files, relative to it).
-  // `writes_files` false (MPI ranks other than 0): names the masks' files, writes none.
-  LikelihoodTarget(Likelihood& likelihood, const Scene& scene, bool estimate_sigma, bool mask_clutter,
-                   fs::path output_dir, bool writes_files)
-      : likelihood_(likelihood),
-        scene_(scene),
-        estimate_sigma_(estimate_sigma),
-        mask_clutter_(mask_clutter),
-        writes_files_(writes_files),
-        output_dir_(std::move(output_dir)) {}
-  int max_batch() const override { return likelihood_.max_batch(); }
-  int levels() const override { return likelihood_.levels(); }
-  void SetLevel(int level) override { likelihood_.SetLevel(level); }
-  std::vector<double> Evaluate(const std::vector<std::vector<double>>& batch) override {
-    std::vector<double> out;
-    for (const Evaluation& e : likelihood_.Evaluate(batch)) out.push_back(e.total() / calibration_.kappa);
-    return out;
-  }
-  nlohmann::json Calibrate(const std::vector<double>& psi, const std::vector<double>& covariance) override {
-    calibration_ = CalibrateNoise(likelihood_, psi, covariance, calibration_.kappa, estimate_sigma_, mask_clutter_);
-    nlohmann::json json = ToJson(calibration_);
-    const ClutterMasks& clutter = calibration_.clutter;
-    if (!clutter.masks.empty()) {
-      nlohmann::json files = nlohmann::json::array();
-      for (size_t i = 0; i < clutter.masks.size(); ++i) files.push_back(KeepMask(scene_.cameras[i].name, clutter.masks[i]));
-      json["clutter"] = {{"files", files}, {"share", clutter.share}};
-    }
-    return json;
-  }
-  // Keeps `mask` for checkpoints; its file name relative to the output folder.
-  std::string KeepMask(const std::string& camera, const Image& mask) const {
-    const std::string file = MaskFileName(camera, mask);
-    if (!writes_files_) return file;
-    fs::create_directories(output_dir_ / kCheckpointMasks);
-    if (!fs::exists(output_dir_ / file)) WritePngAtomically(output_dir_ / file, mask);
-    return file;
-  }
-  void RestoreCalibration(const nlohmann::json& calibration) override {
-    calibration_ = NoiseCalibrationFromJson(calibration);
-    likelihood_.SetSigma(calibration_.sigma);
-    likelihood_.SetPositionSd(calibration_.position_sd);
-    likelihood_.RestorePhotometric(calibration_.photometric);
-    if (calibration.contains("clutter")) {
-      std::vector<Image> masks;
-      for (const auto& file : calibration["clutter"]["files"])
-        masks.push_back(LoadImage(output_dir_ / file.get<std::string>()));
-      likelihood_.SetClutterMasks(masks);
-      calibration_.clutter.masks = std::move(masks);
-      calibration_.clutter.share = calibration["clutter"]["share"].get<std::vector<double>>();
-    }
-  }
-
- private:
-  Likelihood& likelihood_;
-  const Scene& scene_;
-  bool estimate_sigma_, mask_clutter_, writes_files_;
-  fs::path output_dir_;
-  NoiseCalibration calibration_;  // κ = 1 until calibrated
-};
-
-std::vector<opt::ParameterSpec> ParameterSpecs(const Scene& scene) {
-  std::vector<opt::ParameterSpec> specs;
-  for (const Parameter& p : scene.parameters) {
-    opt::ParameterSpec s;
-    s.name = p.name;
-    s.prior = p.prior.kind == Prior::Kind::Uniform ? opt::PriorKind::Uniform : opt::PriorKind::Normal;
-    s.a = p.prior.a;
-    s.b = p.prior.b;
-    s.bounds = p.bounds;
-    s.init = p.init;
-    specs.push_back(s);
-  }
-  return specs;
-}
 
 std::string Duration(double seconds) {
   if (!std::isfinite(seconds) || seconds < 0) return "?";
@@ -228,15 +114,6 @@ double InitialTemperature(const Scene& scene, opt::Target& target) {
   return std::clamp(std::sqrt(var) / double(scene.parameters.size()), 10.0, 1e6);
 }
 
-// Before spending minutes: can the cameras see the scene at all?
-void PreflightVisibility(const Scene& scene, Likelihood& likelihood) {
-  const Evaluation e = likelihood.Evaluate({scene.InitialValues()})[0];
-  if (e.scalars.seen_multi == 0)
-    throw InputError(scene.file.string(), "cameras",
-                     "at the initial parameters no surface point is seen by two cameras: the cameras "
-                     "see nothing of the scene (check poses, priors and images)");
-}
-
 // The σ (0–255) the run ended with: estimated at the mode with `sigma: auto`, else the given one.
 double SigmaUsed(const Scene& scene, const opt::SamplerSummary& s) {
   if (s.calibration.is_object() && s.calibration.contains("sigma")) return s.calibration["sigma"].get<double>();
@@ -248,13 +125,7 @@ double SigmaUsed(const Scene& scene, const opt::SamplerSummary& s) {
 void RequestStop() { g_stop = true; }
 
 ReconstructResult Reconstruct(const ReconstructOptions& options, vk::Device& device) {
-  const Scene scene = [&] {
-    Scene loaded = LoadScene(options.scene_file, options.overrides);
-    ResolveAutoLikelihood(loaded);  // atlas and levels "auto": map.json reports what was used
-    return loaded;
-  }();
-  if (scene.parameters.empty())
-    throw InputError(scene.file.string(), "parameters", "nothing to reconstruct: the scene declares no parameter");
+  const Scene scene = LoadSearchScene(options.scene_file, options.overrides);
   const fs::path checkpoint_file = options.output_dir / "checkpoint.json";
   // Under MPI every rank runs this function with the same sampler; rank 0 alone writes
   // (checkpoints, clutter masks, outputs) and talks (docs/SCALE_OUT.md).
@@ -263,18 +134,10 @@ ReconstructResult Reconstruct(const ReconstructOptions& options, vk::Device& dev
   const bool quiet = options.quiet || !root;
   if (root) fs::create_directories(options.output_dir);
 
-  LikelihoodSetup setup;
-  setup.max_batch = scene.sampler.batch;
-  std::unique_ptr<Likelihood> likelihood = MakeLikelihood(device, scene, setup);
+  std::unique_ptr<Likelihood> likelihood = MakeSearchLikelihood(device, scene, scene.sampler.batch);
   LikelihoodTarget local_target(*likelihood, scene, scene.likelihood.sigma_auto, scene.likelihood.clutter,
-                                options.output_dir, root);
+                                options.output_dir, root, options.observer.evaluated);
   DistributedTarget target(local_target, ranks);
-  // The photographs' exposures differ: a first colour correction at the initial parameters,
-  // on the coarsest level, where misregistration matters least (refitted at the mode). Done
-  // again, identically, when a run resumes before its first calibration.
-  likelihood->SetLevel(likelihood->levels() - 1);
-  likelihood->CalibratePhotometric(scene.InitialValues());
-  likelihood->SetLevel(0);
 
   opt::SamplerOptions sampler_options;
   sampler_options.coarse_levels = likelihood->levels();
@@ -347,6 +210,7 @@ ReconstructResult Reconstruct(const ReconstructOptions& options, vk::Device& dev
   opt::SamplerCallbacks callbacks;
   callbacks.on_frame = [&](const opt::Progress& p) {
     bar.Update(p);
+    if (options.observer.best && !p.best_psi.empty()) options.observer.best(p.best_psi);
     opt::FrameRequest r;
     if (time_limit > 0.0 && p.phase == opt::Phase::Sampling &&
         Clock::now() - sampling_start > std::chrono::duration<double>(time_limit)) {
@@ -378,6 +242,21 @@ ReconstructResult Reconstruct(const ReconstructOptions& options, vk::Device& dev
   opt::SamplerSummary summary;
   opt::Run(*sampler, &summary, callbacks);
   bar.Finish();
+  // The MAP polished by BOBYQA (optimiser/Polish.h): every rank runs the same search, as it
+  // ran the same sampler. Not in the checkpoint: a resumed finished run polishes again, alike.
+  opt::PolishSummary polish;
+  if (summary.termination == opt::Termination::Completed) {
+    double best = summary.map_log_posterior;
+    polish = opt::PolishMap(sampler->parameters(), target, sampler->options().polish_evaluations, &summary,
+                            [&](const opt::SearchEvaluation& e) {
+                              if (!(e.log_posterior > best)) return;
+                              best = e.log_posterior;
+                              if (options.observer.best) options.observer.best(*e.psi);
+                            });
+    if (!quiet && polish.evaluations > 0)
+      std::cerr << "vkrecon run: polished the MAP with BOBYQA: " << polish.evaluations << " evaluations, +"
+                << polish.improvement << " nats\n";
+  }
   const nlohmann::json exchange = ranks.distributed() ? ExchangeCost(target.times(), ranks, scene.sampler.batch)
                                                       : nlohmann::json();
 
@@ -465,6 +344,8 @@ ReconstructResult Reconstruct(const ReconstructOptions& options, vk::Device& dev
   result.failed = diagnosis.verdict == Diagnosis::Verdict::Failed;
 
   nlohmann::json map = opt::MapJson(summary);
+  map["polish"] = {{"method", "bobyqa"}, {"evaluations", polish.evaluations}, {"improved", polish.improved},
+                   {"improvement", polish.improvement}, {"message", polish.message}};
   if (!clutter_files.empty()) map["calibration"]["clutter"]["files"] = clutter_files;
   map["settings"] = {{"scene", fs::absolute(options.scene_file).string()},
                      {"overrides", nlohmann::json::array()},

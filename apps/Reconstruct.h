@@ -4,6 +4,7 @@
 // place where the sampler (optimiser/, no Vulkan) meets the likelihood (pipelines/).
 
 #include <filesystem>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -11,6 +12,16 @@
 #include "engine/vk/Device.h"
 
 namespace vkr::app {
+
+// What a caller (the peers benchmark, apps/PeersBench.h) may watch of a run as it goes,
+// rather than parsing its output. Called on rank 0 and every other rank alike.
+struct RunObserver {
+  // After every scoring call of the likelihood: its level and how many hypotheses it scored.
+  std::function<void(int level, size_t hypotheses)> evaluated;
+  // The running MAP: after every sampler frame, the sampler's best hypothesis at its current
+  // level (opt::Progress::best_psi); during the polish, the polish's best when it beats it.
+  std::function<void(const std::vector<double>& psi)> best;
+};
 
 struct ReconstructOptions {
   std::filesystem::path scene_file;
@@ -22,6 +33,7 @@ struct ReconstructOptions {
   int temperatures = 0;            // replicas per chain; 0: sampler.batch / sampler.chains
   double time_limit = -1.0;        // seconds of sampling (0: none); below 0: sampler.time_limit
   bool one_process = false;        // this process alone, even under MPI (a scene of a list)
+  RunObserver observer;
 };
 
 struct ReconstructResult {

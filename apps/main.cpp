@@ -18,6 +18,7 @@ struct Subcommand {
 
 constexpr Subcommand kSubcommands[] = {
     {"run", vkr::app::RunRun, "reconstruct: sample the parameters against the photographs"},
+    {"fit", vkr::app::RunFit, "MAP only: search the parameters' mode with an NLopt method (no intervals)"},
     {"report", vkr::app::RunReport, "write a run's report.html again from its output folder"},
     {"synth", vkr::app::RunSynth, "render reference images of a textured scene at given parameters"},
     {"render", vkr::app::RunRender, "render novel views (linear float RGBA OpenEXR)"},

@@ -41,4 +41,6 @@ print(out)
 PY
 )
 python3 bench/report.py "$json" >bench/RESULTS.md
+# The Peers section comes from its own, much longer run (bench/peers.sh): put it back.
+if [ -f bench/peers.json ]; then python3 bench/peers_report.py bench/peers.json; fi
 echo "bench/run.sh: wrote $json and bench/RESULTS.md" >&2

@@ -388,6 +388,7 @@ struct Engine {
     p.temperature = s.AnnealTemperature(std::min(s.iteration, s.options.iterations - 1));
     if (s.phase == Phase::Refining || s.phase == Phase::Done) p.temperature = 1.0;
     p.best_log_posterior = s.best.log_posterior();
+    if (s.best.valid) p.best_psi = s.best.psi;
     int64_t proposed = 0, accepted = 0, attempts = 0, swaps = 0;
     for (const ChainState& c : s.chains) {
       proposed += c.replicas[0].proposed;

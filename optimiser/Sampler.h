@@ -93,6 +93,9 @@ struct Progress {
   double temperature = 1.0;    // of the coldest replicas
   // Best untempered log posterior scored at the current level (−∞ before any).
   double best_log_posterior = 0.0;
+  // The hypothesis that scored it (empty before any): the running MAP, which the peers
+  // benchmark watches (apps/PeersBench.h).
+  std::vector<double> best_psi;
   double acceptance = 0.0;       // coldest replicas, all chains, since the start
   double swap_acceptance = 0.0;  // all neighbour pairs, since the start (NaN before any)
 };

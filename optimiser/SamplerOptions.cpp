@@ -45,6 +45,7 @@ void ForEachField(Options& o, F&& f) {
   f("refine_steps", o.refine_steps);
   f("refine_difference", o.refine_difference);
   f("refine_tolerance", o.refine_tolerance);
+  f("polish_evaluations", o.polish_evaluations);
   f("seed", o.seed);
 }
 
@@ -104,6 +105,7 @@ bool SamplerOptions::IsValid(std::string* why) const {
     return OptionsFail(why, "adapt_epsilon must be > 0");
   if (coarse_levels < 1) return OptionsFail(why, "coarse_levels must be ≥ 1");
   if (refine_steps < 0) return OptionsFail(why, "refine_steps must be ≥ 0");
+  if (polish_evaluations < 0) return OptionsFail(why, "polish_evaluations must be ≥ 0");
   if (settle_rounds < 1) return OptionsFail(why, "settle_rounds must be ≥ 1");
   if (settle_steps < 0) return OptionsFail(why, "settle_steps must be ≥ 0");
   if (!(std::isfinite(settle_spread) && settle_spread > 0.0))

@@ -5,6 +5,7 @@
 # Usage: scripts/bootstrap.sh [GROUP…]. Optional groups add packages a few scripts need:
 #   fuzz    clang, libFuzzer and llvm-symbolizer for scripts/fuzz.sh (docs/FUZZING.md)
 #   report  headless Chromium for scripts/report_screenshot.sh (docs/REPORT.md)
+#   plots   matplotlib for the figure of bench/peers_report.py (bench/RESULTS.md, "Peers")
 set -euo pipefail
 
 PACKAGES=(
@@ -15,6 +16,9 @@ PACKAGES=(
   # libraries
   libeigen3-dev libopenexr-dev libtinygltf-dev nlohmann-json3-dev libstb-dev
   libcli11-dev libmuparser-dev libgtest-dev
+  # NLopt (C++ header + libraries; pulls libnlopt-dev and the runtimes): `vkrecon fit`, the
+  # peers benchmark and run's polish of the MAP (optimiser/MapSearch.h)
+  libnlopt-cxx-dev
   # python3 draws the plots of the sweep and benchmark scripts (optional at run time)
   python3
   # the plots and the 3D view of a run's report.html, inlined from /usr/share/javascript
@@ -33,7 +37,8 @@ for group in "$@"; do
     fuzz) PACKAGES+=(clang-14 libclang-rt-14-dev llvm-14) ;;
     # chromium renders report.html headless: a screenshot, and the page's console errors.
     report) PACKAGES+=(chromium) ;;
-    *) echo "bootstrap: unknown package group '$group' (known: fuzz, report)" >&2; exit 2 ;;
+    plots) PACKAGES+=(python3-matplotlib) ;;
+    *) echo "bootstrap: unknown package group '$group' (known: fuzz, report, plots)" >&2; exit 2 ;;
   esac
 done
 

@@ -1,0 +1,145 @@
+#include "apps/SceneTarget.h"
+
+#include <cstdio>
+#include <fstream>
+#include <stdexcept>
+
+#include "engine/common/InputError.h"
+#include "engine/geometry/AtlasFootprint.h"
+#include "pipelines/likelihood/LikelihoodTool.h"
+
+namespace fs = std::filesystem;
+
+namespace vkr::app {
+namespace {
+
+std::string MaskFileName(const std::string& camera, const Image& mask) {
+  uint64_t hash = 1469598103934665603ull;  // FNV-1a over the pixels' bytes
+  const auto* bytes = reinterpret_cast<const unsigned char*>(mask.rgba.data());
+  for (size_t i = 0; i < mask.rgba.size() * sizeof(float); ++i) hash = (hash ^ bytes[i]) * 1099511628211ull;
+  char hex[17];
+  std::snprintf(hex, sizeof hex, "%016llx", static_cast<unsigned long long>(hash));
+  return std::string(kCheckpointMasks) + "/" + camera + "-" + hex + ".png";
+}
+
+}  // namespace
+
+void WriteAtomically(const fs::path& file, const std::string& text) {
+  const fs::path tmp = file.string() + ".tmp";
+  {
+    std::ofstream out(tmp, std::ios::binary);
+    out << text;
+    if (!out) throw std::runtime_error("cannot write " + tmp.string());
+  }
+  fs::rename(tmp, file);
+}
+
+void WritePngAtomically(const fs::path& file, const Image& image) {
+  const fs::path tmp = file.parent_path() / (file.stem().string() + ".tmp.png");
+  WritePng(tmp, image);
+  fs::rename(tmp, file);
+}
+
+LikelihoodTarget::LikelihoodTarget(Likelihood& likelihood, const Scene& scene, bool estimate_sigma,
+                                   bool mask_clutter, fs::path output_dir, bool writes_files,
+                                   EvaluationHook on_evaluate)
+    : likelihood_(likelihood),
+      scene_(scene),
+      estimate_sigma_(estimate_sigma),
+      mask_clutter_(mask_clutter),
+      writes_files_(writes_files),
+      output_dir_(std::move(output_dir)),
+      on_evaluate_(std::move(on_evaluate)) {}
+
+void LikelihoodTarget::SetLevel(int level) {
+  likelihood_.SetLevel(level);
+  level_ = level;
+}
+
+std::vector<double> LikelihoodTarget::Evaluate(const std::vector<std::vector<double>>& batch) {
+  std::vector<double> out;
+  for (const Evaluation& e : likelihood_.Evaluate(batch)) out.push_back(e.total() / calibration_.kappa);
+  if (on_evaluate_) on_evaluate_(level_, batch.size());
+  return out;
+}
+
+nlohmann::json LikelihoodTarget::Calibrate(const std::vector<double>& psi, const std::vector<double>& covariance) {
+  calibration_ = CalibrateNoise(likelihood_, psi, covariance, calibration_.kappa, estimate_sigma_, mask_clutter_);
+  nlohmann::json json = ToJson(calibration_);
+  const ClutterMasks& clutter = calibration_.clutter;
+  if (!clutter.masks.empty()) {
+    nlohmann::json files = nlohmann::json::array();
+    for (size_t i = 0; i < clutter.masks.size(); ++i) files.push_back(KeepMask(scene_.cameras[i].name, clutter.masks[i]));
+    json["clutter"] = {{"files", files}, {"share", clutter.share}};
+  }
+  return json;
+}
+
+std::string LikelihoodTarget::KeepMask(const std::string& camera, const Image& mask) const {
+  const std::string file = MaskFileName(camera, mask);
+  if (!writes_files_) return file;
+  fs::create_directories(output_dir_ / kCheckpointMasks);
+  if (!fs::exists(output_dir_ / file)) WritePngAtomically(output_dir_ / file, mask);
+  return file;
+}
+
+void LikelihoodTarget::RestoreCalibration(const nlohmann::json& calibration) {
+  calibration_ = NoiseCalibrationFromJson(calibration);
+  likelihood_.SetSigma(calibration_.sigma);
+  likelihood_.SetPositionSd(calibration_.position_sd);
+  likelihood_.RestorePhotometric(calibration_.photometric);
+  if (calibration.contains("clutter")) {
+    std::vector<Image> masks;
+    for (const auto& file : calibration["clutter"]["files"])
+      masks.push_back(LoadImage(output_dir_ / file.get<std::string>()));
+    likelihood_.SetClutterMasks(masks);
+    calibration_.clutter.masks = std::move(masks);
+    calibration_.clutter.share = calibration["clutter"]["share"].get<std::vector<double>>();
+  }
+}
+
+Scene LoadSearchScene(const fs::path& file, const std::vector<SceneOverride>& overrides) {
+  Scene scene = LoadScene(file, overrides);
+  ResolveAutoLikelihood(scene);  // atlas and levels "auto": map.json reports what was used
+  if (scene.parameters.empty())
+    throw InputError(scene.file.string(), "parameters", "nothing to reconstruct: the scene declares no parameter");
+  return scene;
+}
+
+std::unique_ptr<Likelihood> MakeSearchLikelihood(vk::Device& device, const Scene& scene, int max_batch) {
+  LikelihoodSetup setup;
+  setup.max_batch = max_batch;
+  std::unique_ptr<Likelihood> likelihood = MakeLikelihood(device, scene, setup);
+  // The photographs' exposures differ: a first colour correction at the initial parameters,
+  // on the coarsest level, where misregistration matters least (`run` refits it at the mode).
+  // Done again, identically, when a run resumes before its first calibration.
+  likelihood->SetLevel(likelihood->levels() - 1);
+  likelihood->CalibratePhotometric(scene.InitialValues());
+  likelihood->SetLevel(0);
+  return likelihood;
+}
+
+void PreflightVisibility(const Scene& scene, Likelihood& likelihood) {
+  const Evaluation e = likelihood.Evaluate({scene.InitialValues()})[0];
+  if (e.scalars.seen_multi == 0)
+    throw InputError(scene.file.string(), "cameras",
+                     "at the initial parameters no surface point is seen by two cameras: the cameras "
+                     "see nothing of the scene (check poses, priors and images)");
+}
+
+std::vector<opt::ParameterSpec> ParameterSpecs(const Scene& scene) {
+  std::vector<opt::ParameterSpec> specs;
+  for (const Parameter& p : scene.parameters) {
+    opt::ParameterSpec s;
+    s.name = p.name;
+    s.prior = p.prior.kind == Prior::Kind::Uniform ? opt::PriorKind::Uniform : opt::PriorKind::Normal;
+    s.a = p.prior.a;
+    s.b = p.prior.b;
+    s.bounds = p.bounds;
+    s.init = p.init;
+    specs.push_back(s);
+  }
+  return specs;
+}
+
+}  // namespace vkr::app

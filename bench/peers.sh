@@ -1,0 +1,15 @@
+#!/usr/bin/env bash
+# The peers benchmark (issue 15): `vkrecon run` against NLopt's methods at finding the MAP,
+# 4 assets × 5 seeds at σ = 16 (~45 min on 2 cores). Keeps bench/peers.json and splices the
+# "Peers" section (table, bench/peers.png, bench/peers_notes.md) into bench/RESULTS.md,
+# leaving the throughput sections as they are. Extra arguments go to `vkrecon bench`
+# (e.g. --quick, --work DIR).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+scripts/build.sh vkrecon >&2
+VKRECON=${VKRECON_BUILD_DIR:-build}/apps/vkrecon
+tmp=$(mktemp)
+trap 'rm -f "$tmp"' EXIT
+"$VKRECON" bench --only peers --json "$@" >"$tmp"
+mv "$tmp" bench/peers.json
+python3 bench/peers_report.py bench/peers.json
