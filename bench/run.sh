@@ -42,5 +42,9 @@ PY
 )
 python3 bench/report.py "$json" >bench/RESULTS.md
 # The Peers section comes from its own, much longer run (bench/peers.sh): put it back.
-if [ -f bench/peers.json ]; then python3 bench/peers_report.py bench/peers.json; fi
+# Debian's python3 has python3-matplotlib (bootstrap.sh plots) for the figure; another
+# python3 first on PATH (pyenv) may not.
+python=/usr/bin/python3
+[ -x "$python" ] || python=python3
+if [ -f bench/peers.json ]; then "$python" bench/peers_report.py bench/peers.json; fi
 echo "bench/run.sh: wrote $json and bench/RESULTS.md" >&2
