@@ -220,7 +220,6 @@ struct SurfaceLikelihood::Impl {
       vk::ImageBarrier(cmd, *image, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL,
                        shared ? VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT : VK_PIPELINE_STAGE_2_NONE, 0,
                        VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT, VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT);
-    const int levels = options.levels;
     for (size_t i = 0; i < cams.size(); ++i) {
       const ViewDraws draws = options.cull_views ? culling.Classify(world_from_node, views_at_level[i].clip_from_world,
                                                                     views_at_level[i].centre, kDefaultNear)
