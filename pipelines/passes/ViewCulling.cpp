@@ -79,11 +79,9 @@ bool ViewCulling::Unseen(const Cluster& cluster, const Eigen::Matrix4d& world_fr
   // linear in the point, so holding at the hull's points it holds at every texel.
   bool beyond[5] = {true, true, true, true, true};
   double farthest = 0.0;
-  std::vector<Eigen::Vector3d> world;
-  world.reserve(cluster.hull.size());
+  const Eigen::Vector3d first = (world_from_node * cluster.hull.front().homogeneous()).head<3>();
   for (const Eigen::Vector3d& p : cluster.hull) {
     const Eigen::Vector4d w = world_from_node * p.homogeneous();
-    world.push_back(w.head<3>());
     farthest = std::max(farthest, (centre - w.head<3>()).norm());
     const Eigen::Vector4d c = clip_from_world * w;
     const double m = kFrustumMargin * (std::abs(c.x()) + std::abs(c.y()) + std::abs(c.w()) + near);
@@ -99,7 +97,7 @@ bool ViewCulling::Unseen(const Cluster& cluster, const Eigen::Matrix4d& world_fr
   // vertex normal; cos θ at a texel is (centre − p)·n / (|centre − p| |n|), whose numerator
   // is the same over the plane. NaN (a degenerate matrix) fails the test: shaded.
   const Eigen::Vector3d n = world_from_node.topLeftCorner<3, 3>().inverse().transpose() * cluster.normal;
-  const double facing = (centre - world[0]).dot(n) / (n.norm() * farthest);
+  const double facing = (centre - first).dot(n) / (n.norm() * farthest);
   return facing < -kFacingMargin;
 }
 

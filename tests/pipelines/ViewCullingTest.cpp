@@ -64,6 +64,8 @@ TEST(ViewCulling, TheFacesOfABoxTurnedAwayAreUnseen) {
   // Box faces: -y, +x, +y, -x, top, bottom (Primitives.cpp).
   EXPECT_EQ(UnseenFaces(g, d), (std::vector<uint32_t>{0, 2, 3, 5}));
   EXPECT_EQ(Total(d.shaded) + Total(d.unseen), uint32_t(g.indices.size()));
+  // Four of six equal faces: two thirds of the charts' area (chart sides round to texels).
+  EXPECT_NEAR(d.unseen_area, 4.0 / 6.0, 0.02);
 }
 
 TEST(ViewCulling, ANodeMatrixTurnsTheFacesWithIt) {
@@ -83,9 +85,13 @@ TEST(ViewCulling, GroundBehindOrBelowTheCameraIsUnseenAndGroundInViewShaded) {
   const Eigen::Matrix4d ground = Eigen::Vector4d(40.0, 40.0, 1.0, 1.0).asDiagonal();
   const uint32_t all = uint32_t(g.indices.size());
   // Looking down at it: shaded, though most of it lies outside the view (one face).
-  EXPECT_EQ(Total(Classify(g, ground, LookAt({0, -0.01, 3}, {0, 0, 0})).shaded), all);
+  const ViewDraws down = Classify(g, ground, LookAt({0, -0.01, 3}, {0, 0, 0}));
+  EXPECT_EQ(Total(down.shaded), all);
+  EXPECT_EQ(down.unseen_area, 0.0);
   // From below it faces away.
-  EXPECT_EQ(Total(Classify(g, ground, LookAt({0, -0.01, -3}, {0, 0, 0})).unseen), all);
+  const ViewDraws below = Classify(g, ground, LookAt({0, -0.01, -3}, {0, 0, 0}));
+  EXPECT_EQ(Total(below.unseen), all);
+  EXPECT_NEAR(below.unseen_area, 1.0, 1e-9);
   // Wholly behind the camera: unseen though it faces the camera.
   const Eigen::Matrix4d behind = Eigen::Affine3d(Eigen::Translation3d(0, -80, 0)).matrix() * ground;
   EXPECT_EQ(Total(Classify(g, behind, LookAt({0, -30, 1}, {0, 60, 1})).unseen), all);
