@@ -186,11 +186,12 @@ struct SurfaceLikelihood::Impl {
     vk::MemoryBarrier(cmd, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, 0, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, 0);
   }
 
-  // `clear_views`: zero the view layers first. Dumps need it (their layers read zero off the
-  // charts); the first evaluation does it once, as a precaution. Otherwise nothing off the
-  // charts is ever read, and every chart texel is written (ViewTexturePass.cpp).
+  // `dump`: zero the view layers first (a dump's layers read zero off the charts) and write
+  // the composite's images. A slot's layers are also zeroed once, at their first use, as a
+  // precaution; otherwise nothing off the charts is ever read, and every chart texel is
+  // written (ViewTexturePass.cpp).
   void RecordHypothesis(VkCommandBuffer cmd, int slot, const std::vector<Camera>& cams,
-                        const std::vector<Eigen::Matrix4d>& world_from_node, bool dump, bool clear_views) const {
+                        const std::vector<Eigen::Matrix4d>& world_from_node, bool dump) const {
     const uint32_t ts = uint32_t(slot) * kTimestampsPerHypothesis;
     Timestamp(cmd, ts);
     const int images = ImagesOf(slot);
@@ -225,7 +226,7 @@ struct SurfaceLikelihood::Impl {
                                                                     views_at_level[i].centre, kDefaultNear)
                                                  : culling.ShadeAll();
       view_pass->record(cmd, views_at_level[i], draws, ViewBinding(images, int(i), level), slot, own.view_layers[i],
-                        LevelAtlas(), clear_views || !own.defined);
+                        LevelAtlas(), dump || !own.defined);
     }
     Timestamp(cmd, ts + 2);
     interior_pass.record(cmd, slot, own.mask, LevelAtlas());
@@ -258,7 +259,7 @@ struct SurfaceLikelihood::Impl {
     }
     VkCommandBuffer cmd = context.Begin();
     if (timestamps) timestamps->Reset(cmd);
-    for (size_t k = 0; k < batch.size(); ++k) RecordHypothesis(cmd, int(k), cams[k], world[k], dump, dump);
+    for (size_t k = 0; k < batch.size(); ++k) RecordHypothesis(cmd, int(k), cams[k], world[k], dump);
     composite_pass->record_reduce(cmd, int(batch.size()), LevelAtlas());
     if (timestamps) timestamps->Write(cmd, uint32_t(batch.size()) * kTimestampsPerHypothesis);
     context.SubmitAndWait();
