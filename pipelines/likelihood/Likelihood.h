@@ -72,6 +72,8 @@ class Likelihood {
   }
   // Puts back masks MaskClutter returned (a resumed run).
   virtual void SetClutterMasks(const std::vector<Image>& masks) { (void)masks; }
+  // Compares every pixel again but those the user masked.
+  virtual void ClearClutterMasks() {}
 
   // One evaluation per hypothesis, in one GPU submission; batch.size() ≤ max_batch().
   virtual std::vector<Evaluation> Evaluate(const std::vector<std::vector<double>>& batch) = 0;

@@ -73,6 +73,7 @@ class SurfaceAdapter final : public Adapter<SurfaceLikelihood, SurfaceLikelihood
     return clutter;
   }
   void SetClutterMasks(const std::vector<Image>& masks) override { likelihood_.SetClutterMasks(masks); }
+  void ClearClutterMasks() override { likelihood_.ClearClutterMasks(); }
 
   LikelihoodDump EvaluateAndDump(const std::vector<double>& psi, Evaluation* evaluation) override {
     SurfaceDump surface = likelihood_.EvaluateAndDump(psi, evaluation);

@@ -59,7 +59,8 @@ NoiseCalibration NoiseCalibrationFromJson(const nlohmann::json& json);  // throw
 
 // At ψ (level 0): the colour correction; σ and δ by fixed-point iteration of the two moment
 // conditions when `estimate_sigma` (left set in the likelihood), σ floored at
-// `sigma_floor`; the clutter masks (when `mask_clutter`), then σ and δ again without it;
+// `sigma_floor`; the clutter masks (when `mask_clutter`: found anew, the last ones cleared
+// first, so that calibrating again at ψ finds the same), then σ and δ again without it;
 // then κ. The floor matters on noise-free images: there 8-bit quantisation
 // and the views' different resampling set the deviations (σ̂ ≈ 0.7 on `house`), the robust
 // loss then turns every edge into an outlier, and hiding surface pays — at σ = 0.7 a house
