@@ -236,7 +236,9 @@ def analysis(res, by_name, rows):
     out.append("")
     out.append("1. Composite (done: subgroup sums, no barriers; the view count a specialisation constant, so the "
                "loop unrolls: 6.0 → 4.6 ms). Reading the views from a storage buffer of packed halves instead of "
-               "storage images was slower (8.4 against 6.1 ms, composite side alone). At the copy ceiling the "
+               "storage images was slower (8.4 against 6.1 ms, composite side alone), and so was `texelFetch` of "
+               "the views and the mask as sampled images (9.0–10.4 against 6.1–7.0 ms, three alternations, "
+               "2026-11-24). At the copy ceiling the "
                "composite's bytes would take "
                f"{house['atlas'] ** 2 * (cams * 8 + 4) / ceilings['copy_bytes_per_s'] * 1e3:.1f} ms.")
     out.append("2. View pass (done: the layers are no longer cleared per hypothesis, since every chart texel is "
@@ -256,12 +258,22 @@ def analysis(res, by_name, rows):
                f"chart instead of all {house['atlas']}² = {house['atlas'] ** 2 / 1e3:.0f} k atlas texels "
                f"({house['surface_texels'] / 1e3:.0f} k lie on the surface); about a fifth less composite time "
                "with LP_NUM_THREADS=1 (13.8 → 10.6 and 16.5 → 13.9 ms, alternating).")
-    out.append("5. What would reach 60 hypotheses/s here: one compute pass per hypothesis instead of the view "
-               "pass and the composite. The atlas layout and the geometry in the nodes' frames are fixed for a "
-               "run, so a texel's node, position and normal can be rendered once; per hypothesis a compute "
-               "shader would then project each texel into every camera, sample, and composite in registers — "
-               "no rasterisation, no view layers written and read back (the composite's image loads alone were "
-               "4.1 ms).")
+    out.append("5. Tried and dropped (2026-11-24): the view pass and the composite as one pass. A fragment "
+               "shader rasterised each face once in atlas space, sampled the texel in all six cameras, scored "
+               "it over its views in registers (the composite's statistic, the same code), and wrote its "
+               "scalars to one texel for a summing compute pass; its evaluations matched the two passes' to "
+               "the bit. It was slower: by the wall clock 35.5–36.5 hypotheses/s against 36.0–46.8, pass "
+               "times 23.4–24.2 + 0.7 ms against 13.2–17.1 + 5.0–5.4 ms (`vkrecon bench --only house`, three "
+               "alternations with the unchanged binary). Taken apart: projecting per texel instead of per "
+               "vertex (the fused pass cannot interpolate six cameras' clip positions) costs the view pass "
+               "+3 ms (16.5–17.2 against 13.1–14.3 ms); sampling six cameras in one fragment, with the "
+               "statistic replaced by a plain sum, 19.6–20.3 ms, more than six passes of one camera; and the "
+               "statistic inside the fragment ~3.5 ms where the composite's arithmetic takes ~1 ms. A compute "
+               "pass over precomputed texel positions would share the per-texel projection and the "
+               "six-camera sampling, so it is not expected to do better here. What is left for 60 "
+               "hypotheses/s on this machine is less work per hypothesis, not the same work rearranged: fewer "
+               "texels where a texel is smaller than a pixel (an atlas sized by the photographs' footprint), "
+               "or coarser levels (6).")
     out.append("6. Run the coarse levels early (§7.3): a level quarters both the texels and the pixels.")
     return out
 
