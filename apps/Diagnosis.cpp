@@ -129,6 +129,23 @@ Diagnosis Diagnose(const Scene& scene, const Evaluation& at_map, double sigma_25
       Worsen(&d, Diagnosis::Verdict::Unsettled);
     }
   }
+  // The chains' best scored lower than the local search's mode (SamplerOptions::start_search):
+  // they missed a mode at least as good as theirs, and their intervals describe another one.
+  // Near the chains' own MAP it is the same mode, reached more closely than their
+  // finite-difference refinement did; outside their 95 % intervals it is another one.
+  if (summary.map_from_search) {
+    std::vector<std::string> outside;
+    for (const opt::ParameterSummary& p : summary.parameters)
+      if (p.map < p.q025 || p.map > p.q975) outside.push_back(p.name);
+    if (!outside.empty()) {
+      std::string names;
+      for (const std::string& n : outside) names += (names.empty() ? "" : ", ") + n;
+      other.push_back("the MAP is the local search's mode, which scored higher than anything the chains found and "
+                      "lies outside their 95 % intervals (" + names +
+                      "): they explored another mode, so the intervals do not describe this one; run longer");
+      Worsen(&d, Diagnosis::Verdict::Unsettled);
+    }
+  }
   // A convergence-driven run that something else ended: its chains may be fine by the
   // thresholds above, but not by the ones it was asked to meet.
   if (summary.ended_by == "time_limit" || summary.ended_by == "max_iterations") {

@@ -120,6 +120,49 @@ double SigmaUsed(const Scene& scene, const opt::SamplerSummary& s) {
   return scene.likelihood.sigma;
 }
 
+// The local search before sampling (SamplerOptions::start_search), with the running MAP
+// reported as the sampler reports its own: the best at the current level.
+opt::MapSearchSummary RunStartSearch(const Scene& scene, opt::Target& target, double cost, bool quiet,
+                                     const std::function<void(const std::vector<double>&)>& on_best) {
+  if (!(cost > 0.0)) return {};
+  const auto start = Clock::now();
+  int level = -1;
+  double best = -INFINITY;
+  const opt::MapSearchSummary s =
+      opt::SearchStart(ParameterSpecs(scene), target, cost, [&](const opt::SearchEvaluation& e) {
+        if (e.level != level) best = -INFINITY;
+        level = e.level;
+        if (!(e.log_posterior > best)) return;
+        best = e.log_posterior;
+        if (on_best) on_best(*e.psi);
+      });
+  if (!quiet)
+    std::cerr << "vkrecon run: a local search (BOBYQA) from the initial values first: " << s.evaluations
+              << " evaluations, " << Duration(std::chrono::duration<double>(Clock::now() - start).count())
+              << "; its mode competes with the chains' at the end\n";
+  return s;
+}
+
+nlohmann::json StartJson(const opt::MapSearchSummary& s) {
+  return {{"method", "bobyqa"},
+          {"evaluations", s.evaluations},
+          {"cost", s.cost},
+          {"map", s.map},
+          {"log_posterior", s.map.empty() ? nlohmann::json() : nlohmann::json(s.log_posterior)},
+          {"message", s.message}};
+}
+
+opt::MapSearchSummary StartFromJson(const nlohmann::json& j) {
+  opt::MapSearchSummary s;
+  s.ok = true;
+  s.evaluations = j.at("evaluations").get<int64_t>();
+  s.cost = j.at("cost").get<double>();
+  s.map = j.at("map").get<std::vector<double>>();
+  if (!j.at("log_posterior").is_null()) s.log_posterior = j.at("log_posterior").get<double>();
+  s.message = j.at("message").get<std::string>();
+  return s;
+}
+
 }  // namespace
 
 void RequestStop() { g_stop = true; }
@@ -177,6 +220,25 @@ ReconstructResult Reconstruct(const ReconstructOptions& options, vk::Device& dev
     std::cerr << "vkrecon run: warning: " << checkpoint_file.string()
               << " does not exist (the run stopped before its first checkpoint, or OUT is not the run's "
                  "folder): starting the run from the beginning\n";
+  // The local search before sampling (SamplerOptions::start_search), kept beside the
+  // checkpoint: a resumed run compares the same mode at the end.
+  const fs::path start_file = options.output_dir / "start_search.json";
+  opt::MapSearchSummary start;
+  if (resume) {
+    std::string start_text;
+    if (root && fs::exists(start_file)) {
+      std::ifstream in(start_file, std::ios::binary);
+      start_text.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+    }
+    ranks.Broadcast(&start_text);
+    if (!start_text.empty()) {
+      try {
+        start = StartFromJson(nlohmann::json::parse(start_text));
+      } catch (const std::exception& e) {
+        throw InputError(start_file.string(), "", std::string("cannot resume: ") + e.what());
+      }
+    }
+  }
   if (resume) {
     nlohmann::json state;
     try {
@@ -194,6 +256,9 @@ ReconstructResult Reconstruct(const ReconstructOptions& options, vk::Device& dev
     if (!opt::ValidateProblem(sampler_options, ParameterSpecs(scene), target, &why))
       throw InputError(scene.file.string(), "sampler", why);
     PreflightVisibility(scene, *likelihood);
+    // Before the first checkpoint, so that any run that resumes has its mode to compare.
+    start = RunStartSearch(scene, target, sampler_options.start_search, quiet, options.observer.best);
+    if (root && !start.map.empty()) WriteAtomically(start_file, StartJson(start).dump(2) + "\n");
     sampler_options.initial_temperature = InitialTemperature(scene, target);
     sampler = std::make_unique<opt::Sampler>(sampler_options, ParameterSpecs(scene), target);
     // From here on a resume continues this run rather than starting it again (the initial
@@ -244,6 +309,16 @@ ReconstructResult Reconstruct(const ReconstructOptions& options, vk::Device& dev
   bar.Finish();
   // The MAP polished by BOBYQA (optimiser/Polish.h): every rank runs the same search, as it
   // ran the same sampler. Not in the checkpoint: a resumed finished run polishes again, alike.
+  bool start_adopted = false;
+  double start_at_end = -INFINITY;
+  if (summary.termination == opt::Termination::Completed && !start.map.empty()) {
+    const double before = summary.map_log_posterior;
+    start_at_end = opt::AdoptIfHigher(sampler->parameters(), target, start.map, &summary, &start_adopted);
+    if (start_adopted && options.observer.best) options.observer.best(summary.map);
+    if (start_adopted && !quiet)
+      std::cerr << "vkrecon run: the local search's mode scores " << start_at_end - before
+                << " nats above the chains' MAP: it becomes the MAP\n";
+  }
   opt::PolishSummary polish;
   if (summary.termination == opt::Termination::Completed) {
     double best = summary.map_log_posterior;
@@ -344,6 +419,9 @@ ReconstructResult Reconstruct(const ReconstructOptions& options, vk::Device& dev
   result.failed = diagnosis.verdict == Diagnosis::Verdict::Failed;
 
   nlohmann::json map = opt::MapJson(summary);
+  map["start_search"] = StartJson(start);
+  map["start_search"]["log_posterior_at_end"] = std::isfinite(start_at_end) ? nlohmann::json(start_at_end) : nlohmann::json();
+  map["start_search"]["adopted"] = start_adopted;
   map["polish"] = {{"method", "bobyqa"}, {"evaluations", polish.evaluations}, {"improved", polish.improved},
                    {"improvement", polish.improvement}, {"message", polish.message}};
   if (!clutter_files.empty()) map["calibration"]["clutter"]["files"] = clutter_files;

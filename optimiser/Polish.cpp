@@ -4,6 +4,17 @@
 #include <cmath>
 
 namespace vkr::opt {
+namespace {
+
+void SetMap(const std::vector<double>& map, double log_prior, double log_likelihood, SamplerSummary* summary) {
+  summary->map = map;
+  summary->map_log_prior = log_prior;
+  summary->map_log_likelihood = log_likelihood;
+  summary->map_log_posterior = log_prior + log_likelihood;
+  for (size_t i = 0; i < summary->parameters.size() && i < map.size(); ++i) summary->parameters[i].map = map[i];
+}
+
+}  // namespace
 
 PolishSummary PolishMap(const std::vector<ParameterSpec>& parameters, Target& target, int evaluations,
                         SamplerSummary* summary, const SearchCallback& on_evaluation) {
@@ -31,14 +42,39 @@ PolishSummary PolishMap(const std::vector<ParameterSpec>& parameters, Target& ta
   if (search.ok && search.log_posterior > summary->map_log_posterior) {
     out.improved = true;
     out.improvement = search.log_posterior - summary->map_log_posterior;
-    summary->map = search.map;
-    summary->map_log_prior = search.log_prior;
-    summary->map_log_likelihood = search.log_likelihood;
-    summary->map_log_posterior = search.log_posterior;
-    for (size_t i = 0; i < summary->parameters.size() && i < search.map.size(); ++i)
-      summary->parameters[i].map = search.map[i];
+    SetMap(search.map, search.log_prior, search.log_likelihood, summary);
   }
   return out;
+}
+
+MapSearchSummary SearchStart(const std::vector<ParameterSpec>& parameters, Target& target, double cost,
+                             const SearchCallback& on_evaluation) {
+  MapSearchSummary search;
+  if (!(cost > 0.0)) return search;
+  MapSearchOptions options;
+  options.method = SearchMethod::Bobyqa;
+  options.max_cost = cost;
+  options.levels = target.levels();
+  SearchMap(options, parameters, target, &search, on_evaluation);
+  return search;
+}
+
+double AdoptIfHigher(const std::vector<ParameterSpec>& parameters, Target& target,
+                     const std::vector<double>& candidate, SamplerSummary* summary, bool* adopted) {
+  *adopted = false;
+  if (candidate.size() != parameters.size()) return -INFINITY;
+  const double log_prior = LogPrior(parameters, candidate);
+  if (!std::isfinite(log_prior)) return -INFINITY;
+  target.SetLevel(0);
+  const double log_likelihood = target.Evaluate({candidate}).at(0);
+  summary->evaluations += 1;
+  const double log_posterior = log_prior + log_likelihood;
+  if (!std::isfinite(log_posterior)) return -INFINITY;
+  if (summary->map.empty() || !(log_posterior > summary->map_log_posterior)) return log_posterior;
+  SetMap(candidate, log_prior, log_likelihood, summary);
+  summary->map_from_search = true;
+  *adopted = true;
+  return log_posterior;
 }
 
 }  // namespace vkr::opt

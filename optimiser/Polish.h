@@ -31,4 +31,17 @@ struct PolishSummary {
 PolishSummary PolishMap(const std::vector<ParameterSpec>& parameters, Target& target, int evaluations,
                         SamplerSummary* summary, const SearchCallback& on_evaluation = {});
 
+// Before the sampler (SamplerOptions::start_search): BOBYQA coarse-to-fine over the target's
+// levels from each parameter's Initial(), at most `cost` full-resolution equivalents.
+// Deterministic, like PolishMap. Its map is empty when nothing scored finite.
+MapSearchSummary SearchStart(const std::vector<ParameterSpec>& parameters, Target& target, double cost,
+                             const SearchCallback& on_evaluation = {});
+
+// After the sampler: scores `candidate` at level 0 as the target scores now (calibrated, as
+// the sampler's MAP was) and makes it summary's MAP where its log posterior is higher (the
+// per-parameter summaries other than "map" stay the chains'). Returns that log posterior
+// (−∞ where it cannot be scored) and sets *adopted.
+double AdoptIfHigher(const std::vector<ParameterSpec>& parameters, Target& target,
+                     const std::vector<double>& candidate, SamplerSummary* summary, bool* adopted);
+
 }  // namespace vkr::opt

@@ -127,6 +127,9 @@ struct SamplerSummary {
   std::vector<double> map;
   double map_log_prior = 0.0, map_log_likelihood = 0.0, map_log_posterior = 0.0;
   double sampling_map_log_posterior = 0.0;  // before the refinement
+  // The MAP is the local search's mode, which scored higher than the chains' (AdoptIfHigher,
+  // Polish.h); the per-parameter summaries other than "map" are still the chains'.
+  bool map_from_search = false;
   std::vector<ChainSummary> chains;
   nlohmann::json calibration;  // the target's, from settling (null: none)
   std::vector<Sample> chain;  // every iteration of every chain's coldest replica

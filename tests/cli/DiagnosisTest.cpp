@@ -107,6 +107,22 @@ TEST(Diagnosis, ChainsThatDisagreeAreNotOk) {
   EXPECT_TRUE(Mentions(d, "run longer"));
 }
 
+TEST(Diagnosis, AMapFromTheLocalSearchOutsideTheChainsIntervalsIsNotOk) {
+  Inputs in;
+  opt::ParameterSummary& w = in.summary.parameters[0];
+  w.q025 = 0.40;
+  w.q975 = 0.44;
+  w.map = 0.43;
+  in.summary.map_from_search = true;  // the same mode, reached more closely: nothing to say
+  EXPECT_TRUE(in.Run().ok());
+  w.map = 0.61;  // another mode than the chains'
+  const Diagnosis d = in.Run();
+  EXPECT_EQ(d.verdict, Diagnosis::Verdict::Unsettled);
+  EXPECT_TRUE(Mentions(d, "outside their 95 % intervals (w)"));
+  in.summary.map_from_search = false;  // the chains' own MAP is not judged by their intervals
+  EXPECT_TRUE(in.Run().ok());
+}
+
 TEST(Diagnosis, DoubtsIntervalsWhenTheCurvatureAtTheModeIsInconsistent) {
   Inputs in;
   in.summary.calibration = {{"kappa", 40.0}, {"kappa_min", 12.0}, {"kappa_max", 80.0}};
