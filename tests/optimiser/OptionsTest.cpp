@@ -50,6 +50,9 @@ TEST(SamplerOptions, IsValidRejectsBadOptionsWithAReason) {
       {[](SamplerOptions& o) { o.refine_steps = -1; }, "refine_steps"},
       {[](SamplerOptions& o) { o.refine_difference = 0.0; }, "refine_difference"},
       {[](SamplerOptions& o) { o.refine_tolerance = -1.0; }, "refine_tolerance"},
+      {[](SamplerOptions& o) { o.polish_evaluations = -1; }, "polish_evaluations"},
+      {[](SamplerOptions& o) { o.start_search = -1.0; }, "start_search"},
+      {[](SamplerOptions& o) { o.start_search = INFINITY; }, "start_search"},
   };
   for (const Case& c : cases) {
     SamplerOptions o;
