@@ -12,4 +12,8 @@ tmp=$(mktemp)
 trap 'rm -f "$tmp"' EXIT
 "$VKRECON" bench --only peers --json "$@" >"$tmp"
 mv "$tmp" bench/peers.json
-python3 bench/peers_report.py bench/peers.json
+# Debian's python3 has python3-matplotlib (bootstrap.sh plots) for the figure; another
+# python3 first on PATH (pyenv) may not (bench/run.sh does the same).
+python=/usr/bin/python3
+[ -x "$python" ] || python=python3
+"$python" bench/peers_report.py bench/peers.json
