@@ -309,6 +309,7 @@ ReconstructResult Reconstruct(const ReconstructOptions& options, vk::Device& dev
   bar.Finish();
   // The MAP polished by BOBYQA (optimiser/Polish.h): every rank runs the same search, as it
   // ran the same sampler. Not in the checkpoint: a resumed finished run polishes again, alike.
+  summary.evaluations += start.evaluations;  // every evaluation the run made, the local search's too
   bool start_adopted = false;
   double start_at_end = -INFINITY;
   if (summary.termination == opt::Termination::Completed && !start.map.empty()) {

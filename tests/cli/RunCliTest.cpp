@@ -90,6 +90,12 @@ TEST(RunCli, KilledRunResumesToTheSameResult) {
     EXPECT_EQ(test::ReadText(dir / "straight" / f), test::ReadText(out / f)) << f;
   EXPECT_FALSE(fs::exists(out / "chains/stan-3.csv"));
   EXPECT_EQ(a["sampling"]["ended_by"], "iterations");  // a fixed count: no time limit by default
+  // The local search before sampling ran once, before the first checkpoint; the resumed run
+  // compared the same mode at the end and counted its evaluations alike.
+  EXPECT_GT(a["start_search"]["evaluations"].get<int>(), 0);
+  EXPECT_EQ(a["start_search"], b["start_search"]);
+  EXPECT_EQ(a["evaluations"], b["evaluations"]);
+  EXPECT_TRUE(a["start_search"]["log_posterior_at_end"].is_number()) << a["start_search"].dump();
 }
 
 // Convergence-driven length with a time limit that is up at once: sampling ends as soon as
