@@ -129,10 +129,10 @@ Diagnosis Diagnose(const Scene& scene, const Evaluation& at_map, double sigma_25
       Worsen(&d, Diagnosis::Verdict::Unsettled);
     }
   }
-  // The chains' best scored lower than the local search's mode (SamplerOptions::start_search):
-  // they missed a mode at least as good as theirs, and their intervals describe another one.
-  // Near the chains' own MAP it is the same mode, reached more closely than their
-  // finite-difference refinement did; outside their 95 % intervals it is another one.
+  // The local search's mode scored higher than the chains' MAP (SamplerOptions::start_search).
+  // Inside their 95 % intervals it is their own mode, climbed further than their
+  // finite-difference refinement did: nothing to say. Outside, it is a mode they missed, and
+  // their intervals describe another one.
   if (summary.map_from_search) {
     std::vector<std::string> outside;
     for (const opt::ParameterSummary& p : summary.parameters)

@@ -307,9 +307,8 @@ ReconstructResult Reconstruct(const ReconstructOptions& options, vk::Device& dev
   opt::SamplerSummary summary;
   opt::Run(*sampler, &summary, callbacks);
   bar.Finish();
-  // The MAP polished by BOBYQA (optimiser/Polish.h): every rank runs the same search, as it
-  // ran the same sampler. Not in the checkpoint: a resumed finished run polishes again, alike.
   summary.evaluations += start.evaluations;  // every evaluation the run made, the local search's too
+  // The local search's mode against the chains' MAP, as the calibrated target scores both.
   bool start_adopted = false;
   double start_at_end = -INFINITY;
   if (summary.termination == opt::Termination::Completed && !start.map.empty()) {
@@ -320,6 +319,8 @@ ReconstructResult Reconstruct(const ReconstructOptions& options, vk::Device& dev
       std::cerr << "vkrecon run: the local search's mode scores " << start_at_end - before
                 << " nats above the chains' MAP: it becomes the MAP\n";
   }
+  // The MAP polished by BOBYQA (optimiser/Polish.h): every rank runs the same search, as it
+  // ran the same sampler. Not in the checkpoint: a resumed finished run polishes again, alike.
   opt::PolishSummary polish;
   if (summary.termination == opt::Termination::Completed) {
     double best = summary.map_log_posterior;
