@@ -41,7 +41,9 @@ struct PeersOptions {
                                             opt::SearchMethod::Sbplx, opt::SearchMethod::Crs2Lm,
                                             opt::SearchMethod::Isres};
   // Extra --set for every search (`run` and the methods alike, so they share the likelihood).
-  std::vector<SceneOverride> overrides = {{"sampler.iterations", "150"}};
+  // `run`'s local search before sampling is off by default (SamplerOptions::start_search);
+  // the bench measures `run` with it, at the budget it was built for.
+  std::vector<SceneOverride> overrides = {{"sampler.iterations", "150"}, {"sampler.start_search", "100"}};
   bool quick = false;
 
   // One seed, box and poster, ¼-size images, a 128² atlas, 60 iterations of `run`, a budget
