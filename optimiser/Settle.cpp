@@ -201,6 +201,7 @@ void RestartFrame(State& s, Target& target, const BatchEvaluator& evaluate) {
   double mode_log_likelihood = -kInf;
   Eigen::MatrixXd inverse_curvature;
   int moves = 0;
+  const int earlier_moves = s.calibration.is_object() ? s.calibration.value("mode_moves", 0) : 0;
   const auto measure = [&] {
     // The refinement may stop short of the mode, where the log posterior still rises along
     // some direction; a curvature measured there is not negative definite, and the repair
@@ -250,8 +251,9 @@ void RestartFrame(State& s, Target& target, const BatchEvaluator& evaluate) {
     if (settled) break;
   }
 
-  // map.json says how far the settling had to climb (0: the refinement ended at a maximum).
-  if (s.calibration.is_object()) s.calibration["mode_moves"] = moves;
+  // map.json says how far the settling had to climb, over all its rounds so far (0: every
+  // refinement ended at a maximum).
+  if (s.calibration.is_object()) s.calibration["mode_moves"] = earlier_moves + moves;
 
   // Log-likelihoods before the calibration are not comparable with those after it.
   s.best = Best{};

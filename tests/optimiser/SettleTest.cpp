@@ -257,6 +257,7 @@ TEST(Settle, TheRestartClimbsWhereTheCurvatureIsNotAMaximum) {
   }
   EXPECT_GT(s.best.log_likelihood, target.Evaluate({s.refine.psi})[0] + 0.1);
   EXPECT_GT(evaluations, 2 * 33);  // measured more than once: it moved
+  EXPECT_GE(s.calibration.value("mode_moves", 0), 1);  // and map.json says so
 }
 
 // Where the curvature is a maximum's, the restart stays where the refinement ended (the
@@ -275,6 +276,7 @@ TEST(Settle, TheRestartStaysWhereTheCurvatureIsAMaximum) {
   detail::RestartFrame(s, target, [&](const std::vector<std::vector<double>>& batch) { return target.Evaluate(batch); });
   EXPECT_EQ(target.calibrated_at, s.refine.psi);
   EXPECT_EQ(s.best.psi, s.refine.psi);
+  EXPECT_EQ(s.calibration.value("mode_moves", -1), 0);
 }
 
 }  // namespace
