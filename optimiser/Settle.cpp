@@ -242,7 +242,8 @@ void RestartFrame(State& s, Target& target, const BatchEvaluator& evaluate) {
     s.calibration = target.Calibrate(mode, covariance);
     if (s.calibration.is_null()) break;
     // The log posterior changed: measure it again; if the mode moved under the new
-    // calibration, the calibration belongs to the old point and is made again.
+    // calibration, that calibration belongs to the old point: calibrate again while rounds
+    // remain.
     const bool moved = measure();
     if (!s.calibration.is_object() || !s.calibration.contains("kappa")) break;
     const double next = s.calibration.value("kappa", 1.0);
