@@ -437,6 +437,9 @@ ReconstructResult Reconstruct(const ReconstructOptions& options, vk::Device& dev
                                      {"levels", scene.likelihood.levels},
                                      {"photometric", scene.likelihood.photometric},
                                      {"clutter", scene.likelihood.clutter},
+                                     {"sandwich_blocks", scene.likelihood.sandwich_blocks == 0
+                                                             ? nlohmann::json("auto")
+                                                             : nlohmann::json(scene.likelihood.sandwich_blocks)},
                                      {"partners", scene.likelihood.partners},
                                      {"partner_ranking", scene.likelihood.partner_ranking}}},
                      {"sampler", opt::ToJson(sampler->options())},

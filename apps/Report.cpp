@@ -143,7 +143,10 @@ std::string Calibration(const json& map) {
     row("σ", Number(c.value("sigma", json())) + (c.value("sigma_estimated", false) ? " (estimated)" : " (given)"),
         "noise sd, 0–255 scale");
     row("δ", Number(c.value("position_sd", json())), "position noise, pixels");
-    row("κ", Number(c.value("kappa", json())), "sandwich factor: the likelihood is divided by it");
+    const json block = c.value("block", json());
+    row("κ", Number(c.value("kappa", json())),
+        "sandwich factor: the likelihood is divided by it" +
+            (block.is_number() ? " (over blocks of " + Number(block) + "×" + Number(block) + " texels)" : std::string()));
     row("κ<sub>min</sub> / κ<sub>max</sub>",
         Number(c.value("kappa_min", json())) + " / " + Number(c.value("kappa_max", json())),
         "the sandwich's eigenvalues (κ<sub>min</sub> &lt; 1: the curvature is doubtful)");

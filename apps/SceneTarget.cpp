@@ -64,7 +64,8 @@ std::vector<double> LikelihoodTarget::Evaluate(const std::vector<std::vector<dou
 }
 
 nlohmann::json LikelihoodTarget::Calibrate(const std::vector<double>& psi, const std::vector<double>& covariance) {
-  calibration_ = CalibrateNoise(likelihood_, psi, covariance, calibration_.kappa, estimate_sigma_, mask_clutter_);
+  calibration_ = CalibrateNoise(likelihood_, psi, covariance, calibration_.kappa, estimate_sigma_, mask_clutter_,
+                                scene_.likelihood.sandwich_blocks);
   nlohmann::json json = ToJson(calibration_);
   const ClutterMasks& clutter = calibration_.clutter;
   if (!clutter.masks.empty()) {

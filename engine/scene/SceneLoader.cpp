@@ -74,7 +74,7 @@ bool IsWord(const Reader& r, const Json& j, const std::string& path, const char*
 void ReadLikelihood(const Reader& r, const Json& j, LikelihoodSettings& s) {
   const std::string path = "likelihood";
   r.CheckObject(j, path, {"kind", "sigma", "weights", "atlas", "levels", "photometric", "clutter", "slot_images",
-                         "partners", "partner_ranking"});
+                         "partners", "partner_ranking", "sandwich_blocks"});
   if (auto it = j.find("kind"); it != j.end()) {
     s.kind = r.String(*it, "likelihood.kind");
     if (s.kind != "surface" && s.kind != "image")
@@ -118,6 +118,15 @@ void ReadLikelihood(const Reader& r, const Json& j, LikelihoodSettings& s) {
   if (auto it = j.find("clutter"); it != j.end()) {
     if (!it->is_boolean()) r.Fail("likelihood.clutter", "expected true or false");
     s.clutter = it->get<bool>();
+  }
+  if (auto it = j.find("sandwich_blocks"); it != j.end() &&
+                                             IsWord(r, *it, "likelihood.sandwich_blocks", "auto", "8, 16, 32 or 64")) {
+    s.sandwich_blocks = 0;
+  } else if (it != j.end()) {
+    s.sandwich_blocks = int(r.Integer(*it, "likelihood.sandwich_blocks", 8, 64));
+    if (s.sandwich_blocks & (s.sandwich_blocks - 1))
+      r.Fail("likelihood.sandwich_blocks", "blocks of " + std::to_string(s.sandwich_blocks) +
+                                               " texels: expected 8, 16, 32, 64 or \"auto\"");
   }
   // Whether k exceeds the other cameras is checked where the cameras are known
   // (ImageLikelihoodOptions::FromScene).

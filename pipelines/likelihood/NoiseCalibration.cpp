@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <stdexcept>
 
 #include <Eigen/Dense>
@@ -21,7 +22,7 @@ const Image* FindImage(const LikelihoodDump& dump, const std::string& name) {
 nlohmann::json ToJson(const NoiseCalibration& c) {
   return {{"sigma", c.sigma},         {"position_sd", c.position_sd}, {"sigma_estimated", c.sigma_estimated},
           {"kappa", c.kappa},         {"kappa_min", c.kappa_min},     {"kappa_max", c.kappa_max},
-          {"blocks", c.blocks},       {"chi2_per_dof", c.chi2_per_dof}, {"photometric", c.photometric},
+          {"blocks", c.blocks},       {"block", c.block},             {"chi2_per_dof", c.chi2_per_dof}, {"photometric", c.photometric},
           {"curvature_doubtful", c.CurvatureDoubtful()}};
 }
 
@@ -36,6 +37,7 @@ NoiseCalibration NoiseCalibrationFromJson(const nlohmann::json& j) {
     c.kappa_min = j.at("kappa_min").get<double>();
     c.kappa_max = j.at("kappa_max").get<double>();
     c.blocks = j.at("blocks").get<int>();
+    c.block = j.value("block", 8);  // checkpoints written before the block size was chosen
     c.chi2_per_dof = j.at("chi2_per_dof").get<double>();
     if (!(c.sigma > 0.0) || !(c.kappa > 0.0) || !(c.position_sd >= 0.0))
       throw std::invalid_argument("sigma, position_sd or kappa out of range");
@@ -45,9 +47,49 @@ NoiseCalibration NoiseCalibrationFromJson(const nlohmann::json& j) {
   }
 }
 
-namespace {
+std::optional<BlockSandwich> SandwichOverBlocks(const std::vector<std::vector<double>>& gradient, int width,
+                                               const std::vector<double>& inverse_h, int requested) {
+  const int d = int(gradient.size());
+  if (d == 0 || width <= 0 || requested < 0 || inverse_h.size() != size_t(d) * d) return std::nullopt;
+  const size_t texels = gradient[0].size();
+  for (const std::vector<double>& g : gradient)
+    if (g.size() != texels) return std::nullopt;
+  const int height = int(texels / size_t(width));
+  const Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> h_inverse(
+      inverse_h.data(), d, d);
+  std::vector<int> sides(std::begin(kSandwichBlockSides), std::end(kSandwichBlockSides));
+  if (requested != kSandwichBlocksAuto) sides = {requested};
+  std::optional<BlockSandwich> chosen;
+  for (const int side : sides) {
+    Eigen::MatrixXd j = Eigen::MatrixXd::Zero(d, d);
+    int blocks = 0;
+    for (int by = 0; by < height; by += side)
+      for (int bx = 0; bx < width; bx += side) {
+        Eigen::VectorXd g = Eigen::VectorXd::Zero(d);
+        for (int y = by; y < std::min(height, by + side); ++y)
+          for (int x = bx; x < std::min(width, bx + side); ++x)
+            for (int i = 0; i < d; ++i) g[i] += gradient[size_t(i)][size_t(y) * width + x];
+        if (g.squaredNorm() == 0.0) continue;
+        j += g * g.transpose();
+        ++blocks;
+      }
+    // The smallest blocks need 2d to estimate J at all; a larger size must leave twice that,
+    // or its estimate is noisy enough that taking the largest κ would mostly pick noise.
+    const int needed = (side == sides[0] ? 2 : 4) * d;
+    if (blocks < needed) {  // larger blocks leave fewer still
+      if (!chosen) chosen = BlockSandwich{1.0, 1.0, 1.0, blocks, side};  // too few for J: κ stays 1
+      break;
+    }
+    const Eigen::MatrixXd m = h_inverse * j;
+    const Eigen::VectorXcd eigen = m.eigenvalues();
+    const double kappa = std::clamp(m.trace() / double(d), 1e-3, 1e6);
+    if (!chosen || kappa > chosen->kappa)
+      chosen = BlockSandwich{kappa, eigen.real().minCoeff(), eigen.real().maxCoeff(), blocks, side};
+  }
+  return chosen;
+}
 
-constexpr int kBlock = 8;  // texels per side of a sandwich block
+namespace {
 
 // Per texel, its term of the log-likelihood, −½ (s_t/σ² − d_t), from a dump's deviation
 // image (r = s_t/σ² capped, g = d_t); empty without one.
@@ -64,9 +106,9 @@ std::vector<double> TexelLogLikelihood(const LikelihoodDump& dump, bool chi2_cor
   return out;
 }
 
-// κ = tr(H⁻¹J)/d and the eigenvalue range of H⁻¹J (NoiseCalibration.h).
+// κ from the per-texel score at ψ (finite differences over ± one sd of each parameter).
 void SandwichFactor(Likelihood& likelihood, const std::vector<double>& psi, const Eigen::MatrixXd& inverse_h,
-                    NoiseCalibration* c) {
+                    int sandwich_blocks, NoiseCalibration* c) {
   const int d = int(psi.size());
   const bool correction = likelihood.model().chi2_correction;
   std::vector<std::vector<double>> gradient(static_cast<size_t>(d));  // per parameter, per texel
@@ -83,26 +125,16 @@ void SandwichFactor(Likelihood& likelihood, const std::vector<double>& psi, cons
     gradient[size_t(i)].resize(up.size());
     for (size_t t = 0; t < up.size(); ++t) gradient[size_t(i)][t] = (up[t] - down[t]) / (2.0 * h);
   }
-  const int height = int(gradient[0].size()) / width;
-  Eigen::MatrixXd j = Eigen::MatrixXd::Zero(d, d);
-  int blocks = 0;
-  for (int by = 0; by < height; by += kBlock)
-    for (int bx = 0; bx < width; bx += kBlock) {
-      Eigen::VectorXd g = Eigen::VectorXd::Zero(d);
-      for (int y = by; y < std::min(height, by + kBlock); ++y)
-        for (int x = bx; x < std::min(width, bx + kBlock); ++x)
-          for (int i = 0; i < d; ++i) g[i] += gradient[size_t(i)][size_t(y) * width + x];
-      if (g.squaredNorm() == 0.0) continue;
-      j += g * g.transpose();
-      ++blocks;
-    }
-  c->blocks = blocks;
-  if (blocks < 2 * d) return;  // too few to estimate J: keep κ = 1
-  const Eigen::MatrixXd m = inverse_h * j;
-  const Eigen::VectorXcd eigen = m.eigenvalues();
-  c->kappa = std::clamp(m.trace() / double(d), 1e-3, 1e6);
-  c->kappa_min = eigen.real().minCoeff();
-  c->kappa_max = eigen.real().maxCoeff();
+  std::vector<double> inverse(size_t(d) * d);
+  for (int i = 0; i < d; ++i)
+    for (int k = 0; k < d; ++k) inverse[size_t(i) * d + k] = inverse_h(i, k);
+  if (const std::optional<BlockSandwich> s = SandwichOverBlocks(gradient, width, inverse, sandwich_blocks)) {
+    c->kappa = s->kappa;
+    c->kappa_min = s->kappa_min;
+    c->kappa_max = s->kappa_max;
+    c->blocks = s->blocks;
+    c->block = s->block;
+  }
 }
 
 }  // namespace
@@ -154,7 +186,7 @@ void EstimateSigmaAndDelta(Likelihood& likelihood, const std::vector<double>& ps
 
 NoiseCalibration CalibrateNoise(Likelihood& likelihood, const std::vector<double>& psi,
                                 const std::vector<double>& covariance, double current_kappa,
-                                bool estimate_sigma, bool mask_clutter, double sigma_floor) {
+                                bool estimate_sigma, bool mask_clutter, int sandwich_blocks, double sigma_floor) {
   const int level = likelihood.level();
   likelihood.SetLevel(0);
   NoiseCalibration c;
@@ -195,7 +227,7 @@ NoiseCalibration CalibrateNoise(Likelihood& likelihood, const std::vector<double
     const double chi_after = after.sum_squares / std::pow(c.sigma / 255.0, 2);
     const double precision_ratio = chi_before > 0.0 && chi_after > 0.0 ? chi_after / chi_before : 1.0;
     inverse_h *= 1.0 / precision_ratio / current_kappa;
-    SandwichFactor(likelihood, psi, inverse_h, &c);
+    SandwichFactor(likelihood, psi, inverse_h, sandwich_blocks, &c);
   }
   likelihood.SetLevel(level);
   return c;

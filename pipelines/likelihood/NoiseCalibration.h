@@ -16,12 +16,14 @@
 //     blur, calibration — is smooth across the surface), so the curvature H of the
 //     log-likelihood overstates the evidence. The block sandwich (Huber–White) estimator
 //     measures the real variability of the score: J = Σ_b G_b G_bᵀ, G_b the gradient of
-//     the log-likelihood summed over a block of 8×8 texels, from per-texel deviations at
-//     ψ ± one sd of each parameter. The robust covariance is H⁻¹ J H⁻¹; the log-likelihood
+//     the log-likelihood summed over a block of texels, from per-texel deviations at
+//     ψ ± one sd of each parameter (SandwichOverBlocks: the block size is chosen from the
+//     data). The robust covariance is H⁻¹ J H⁻¹; the log-likelihood
 //     is divided by κ = tr(H⁻¹J)/d (a magnitude adjustment), so the posterior the chains
 //     sample has that covariance on average over directions. κ does not depend on σ (J
 //     scales as σ⁻⁴, H as σ⁻²): intervals follow the deviations actually found.
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -45,6 +47,7 @@ struct NoiseCalibration {
   double kappa = 1.0;            // the log-likelihood is divided by it
   double kappa_min = 1.0, kappa_max = 1.0;  // eigenvalue range of H⁻¹J (a report)
   int blocks = 0;                // blocks of texels that carried a gradient
+  int block = 8;                 // texels per side of those blocks (SandwichOverBlocks)
   double chi2_per_dof = 0.0;     // S/σ²/N at the mode with the σ above
   nlohmann::json photometric;    // the per-camera colour correction (Photometric.h), or null
   // What the photographs show that the scene leaves out, masked from then on (ClutterMasks.h;
@@ -53,6 +56,34 @@ struct NoiseCalibration {
 
   bool CurvatureDoubtful() const { return kappa_min < kMinSandwichEigenvalue; }
 };
+
+// Blocks too small for the residuals' correlation count one correlated region as many
+// independent ones: J, and with it κ, comes out too small by about the number of blocks per
+// region. Where the scene leaves something out (an annex, a relief, a lighting the model
+// lacks) the residuals are correlated over whole faces, far beyond the 2–3 texels that
+// resampling correlates. Larger blocks are unbiased but noisier (fewer of them). The default
+// stays 8×8 (`likelihood.sandwich_blocks`); "auto" takes the largest κ over these sides
+// among those that still leave enough blocks, erring toward width. Measured, it widens
+// house_annex's intervals for its annex (1 → 4 of 7 truths held) but every bundled asset's
+// too, some far beyond their errors (docs/LIKELIHOOD.md, "Honest intervals").
+inline constexpr int kSandwichBlockSides[] = {8, 16, 32, 64};
+inline constexpr int kSandwichBlocksAuto = 0;
+
+struct BlockSandwich {
+  double kappa = 1.0;                       // tr(H⁻¹J)/d
+  double kappa_min = 1.0, kappa_max = 1.0;  // eigenvalue range of H⁻¹J
+  int blocks = 0;                           // blocks that carried a gradient
+  int block = 8;                            // texels per side
+};
+
+// `gradient`: per parameter, per texel (row-major, `width` wide) the score ∂ log L_t/∂ψ_i;
+// `inverse_h`: H⁻¹ (d × d row-major). The block sandwich over blocks of `side` texels; for
+// kSandwichBlocksAuto, at each of kSandwichBlockSides with at least 2d blocks (the
+// smallest side) or 4d (the others), and the largest κ of them. κ = 1 when the first side
+// tried leaves fewer than 2d blocks; nullopt when the sizes disagree.
+std::optional<BlockSandwich> SandwichOverBlocks(const std::vector<std::vector<double>>& gradient, int width,
+                                               const std::vector<double>& inverse_h,
+                                               int side = kSandwichBlocksAuto);
 
 nlohmann::json ToJson(const NoiseCalibration& calibration);
 NoiseCalibration NoiseCalibrationFromJson(const nlohmann::json& json);  // throws std::invalid_argument
@@ -69,6 +100,7 @@ NoiseCalibration NoiseCalibrationFromJson(const nlohmann::json& json);  // throw
 // one, or a likelihood whose dumps carry no deviation image (image-space kind), leaves κ = 1.
 NoiseCalibration CalibrateNoise(Likelihood& likelihood, const std::vector<double>& psi,
                                 const std::vector<double>& covariance, double current_kappa,
-                                bool estimate_sigma, bool mask_clutter, double sigma_floor = 2.0);
+                                bool estimate_sigma, bool mask_clutter, int sandwich_blocks = 8,
+                                double sigma_floor = 2.0);
 
 }  // namespace vkr

@@ -267,6 +267,12 @@ TEST(BadInput, VersionAndSettings) {
   EXPECT_TRUE(LoadFails(dir, scene, {"likelihood.partner_ranking", "unknown ranking 'closest'"}));
   scene["likelihood"] = Json{{"slot_images", "each"}};
   EXPECT_TRUE(LoadFails(dir, scene, {"likelihood.slot_images", "unknown value 'each'", "per_slot"}));
+  scene["likelihood"] = Json{{"sandwich_blocks", 12}};
+  EXPECT_TRUE(LoadFails(dir, scene, {"likelihood.sandwich_blocks", "blocks of 12 texels", "\"auto\""}));
+  scene["likelihood"] = Json{{"sandwich_blocks", 128}};
+  EXPECT_TRUE(LoadFails(dir, scene, {"likelihood.sandwich_blocks", "[8, 64]"}));
+  scene["likelihood"] = Json{{"sandwich_blocks", "largest"}};
+  EXPECT_TRUE(LoadFails(dir, scene, {"likelihood.sandwich_blocks", "8, 16, 32 or 64", "'largest'"}));
   scene.erase("likelihood");
   scene["synth"] = Json{{"sun", {0, 95}}};
   EXPECT_TRUE(LoadFails(dir, scene, {"synth.sun[1]", "must be in (0, 90]"}));

@@ -1,0 +1,98 @@
+// The block sandwich behind κ (NoiseCalibration.h): where the per-texel scores are
+// correlated over regions larger than the smallest blocks, κ must measure the regions, not
+// the blocks; where they are independent, the choice among block sizes must not inflate it.
+#include <random>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "pipelines/likelihood/NoiseCalibration.h"
+
+namespace vkr {
+namespace {
+
+constexpr int kSide = 256;  // texels: a 256² atlas, as the assets use
+constexpr int kParameters = 2;
+
+// Row-major d × d identity scaled by `s`.
+std::vector<double> ScaledIdentity(double s) {
+  std::vector<double> m(kParameters * kParameters, 0.0);
+  for (int i = 0; i < kParameters; ++i) m[i * kParameters + i] = s;
+  return m;
+}
+
+// Per parameter, per texel: standard normal scores, constant over square patches of
+// `patch` texels per side (1: independent texels).
+std::vector<std::vector<double>> Scores(int patch, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> normal;
+  const int patches = kSide / patch;
+  std::vector<std::vector<double>> gradient(kParameters, std::vector<double>(kSide * kSide));
+  for (int i = 0; i < kParameters; ++i) {
+    std::vector<double> value(patches * patches);
+    for (double& v : value) v = normal(rng);
+    for (int y = 0; y < kSide; ++y)
+      for (int x = 0; x < kSide; ++x) gradient[i][y * kSide + x] = value[(y / patch) * patches + x / patch];
+  }
+  return gradient;
+}
+
+TEST(Sandwich, IndependentTexelsGiveTheCurvaturesKappaWhateverTheBlocks) {
+  // J = N·I per texel-independent unit scores; with H⁻¹ = I/N the sandwich is κ = 1 in
+  // expectation at every block size. Taking the largest over sizes may add estimation noise,
+  // not a factor of the block area (64 for 64×64 over 8×8).
+  const std::optional<BlockSandwich> s =
+      SandwichOverBlocks(Scores(1, 7), kSide, ScaledIdentity(1.0 / (kSide * kSide)), kSandwichBlocksAuto);
+  ASSERT_TRUE(s.has_value());
+  EXPECT_GT(s->kappa, 0.8);
+  EXPECT_LT(s->kappa, 1.6);
+}
+
+TEST(Sandwich, ScoresCorrelatedOverPatchesAreMeasuredOverBlocksAsLargeAsThePatches) {
+  // 32×32 patches of one score each: J over blocks of 32 or more is 1024²·patches·I, over 8×8
+  // blocks 16× less. With H⁻¹ for the former, κ must be about 1 — 8×8 blocks alone give 1/16.
+  constexpr int kPatch = 32;
+  const double patches = double(kSide / kPatch) * (kSide / kPatch);
+  const double j = double(kPatch * kPatch) * (kPatch * kPatch) * patches;
+  const std::optional<BlockSandwich> s =
+      SandwichOverBlocks(Scores(kPatch, 11), kSide, ScaledIdentity(1.0 / j), kSandwichBlocksAuto);
+  ASSERT_TRUE(s.has_value());
+  EXPECT_GE(s->block, kPatch);
+  EXPECT_GT(s->kappa, 0.5);
+  EXPECT_LT(s->kappa, 2.0);
+}
+
+TEST(Sandwich, BlocksOfAGivenSizeMeasureOnlyWhatTheyHold) {
+  // The same scores over the default 8×8 blocks: each patch counts as 16 independent blocks,
+  // so κ comes out about 16× too small — why `sandwich_blocks: auto` exists.
+  constexpr int kPatch = 32;
+  const double patches = double(kSide / kPatch) * (kSide / kPatch);
+  const double j = double(kPatch * kPatch) * (kPatch * kPatch) * patches;
+  const std::optional<BlockSandwich> s = SandwichOverBlocks(Scores(kPatch, 11), kSide, ScaledIdentity(1.0 / j), 8);
+  ASSERT_TRUE(s.has_value());
+  EXPECT_EQ(s->block, 8);
+  EXPECT_EQ(s->blocks, (kSide / 8) * (kSide / 8));
+  EXPECT_GT(s->kappa, 1.0 / 32);
+  EXPECT_LT(s->kappa, 1.0 / 8);
+}
+
+TEST(Sandwich, TooFewBlocksLeaveKappaAtOne) {
+  // 16×16 texels hold four 8×8 blocks, fewer than the 2d = 6 needed for d = 3.
+  std::vector<std::vector<double>> gradient(3, std::vector<double>(16 * 16, 1.0));
+  std::vector<double> inverse(9, 0.0);
+  for (int i = 0; i < 3; ++i) inverse[i * 3 + i] = 1.0;
+  const std::optional<BlockSandwich> s = SandwichOverBlocks(gradient, 16, inverse, kSandwichBlocksAuto);
+  ASSERT_TRUE(s.has_value());
+  EXPECT_EQ(s->blocks, 4);
+  EXPECT_EQ(s->kappa, 1.0);
+}
+
+TEST(Sandwich, MismatchedScoresAreRefused) {
+  std::vector<std::vector<double>> gradient = {std::vector<double>(64, 1.0), std::vector<double>(32, 1.0)};
+  EXPECT_FALSE(SandwichOverBlocks(gradient, 8, ScaledIdentity(1.0)).has_value());
+  EXPECT_FALSE(SandwichOverBlocks({std::vector<double>(64, 1.0)}, 8, ScaledIdentity(1.0)).has_value());
+  EXPECT_FALSE(SandwichOverBlocks({std::vector<double>(64, 1.0)}, 8, {1.0}, -8).has_value());
+}
+
+}  // namespace
+}  // namespace vkr
