@@ -170,7 +170,15 @@ Diagnosis Diagnose(const Scene& scene, const Evaluation& at_map, double sigma_25
       Worsen(&d, Diagnosis::Verdict::Unsettled);
     }
   }
-  if (!model.empty()) Worsen(&d, Diagnosis::Verdict::ModelError);
+  if (!model.empty()) {
+    Worsen(&d, Diagnosis::Verdict::ModelError);
+    // κ over 8×8 blocks measures the noise, not a bias that what the scene leaves out gives
+    // the mode (docs/LIKELIHOOD.md, "Honest intervals"): say so, and what widens them.
+    if (scene.likelihood.sandwich_blocks != 0)
+      model.push_back("the intervals allow for the photographs' noise, not for what the scene leaves out, which can "
+                      "move the MAP beyond them: model it, or set likelihood.sandwich_blocks to \"auto\" for "
+                      "intervals that err wide (docs/LIKELIHOOD.md, \"Honest intervals\")");
+  }
   if (!failed.empty()) Worsen(&d, Diagnosis::Verdict::Failed);
   for (const auto* list : {&failed, &model, &other}) d.notes.insert(d.notes.end(), list->begin(), list->end());
   d.json = {{"ok", d.ok()},
