@@ -118,6 +118,22 @@ TEST(RunCli, ATimeLimitEndsTheSamplingAndTheDiagnosisSaysSo) {
   EXPECT_NE(r.err.find("--time-limit"), std::string::npos) << r.err;
 }
 
+// The scene's sandwich block size reaches the calibration at the mode (map.json says which
+// blocks κ was measured over) and the recorded settings.
+TEST(RunCli, TheSandwichBlocksOfTheSceneAreTheCalibrations) {
+  test::TempDir dir;
+  ASSERT_TRUE(SynthBoxImages(dir.path(), " --noise 8"));
+  const fs::path out = dir / "out";
+  const auto r = RunCommand(SmallRun(dir, 40) + " --set likelihood.sandwich_blocks=16 -o " + Q(out));
+  ASSERT_EQ(r.exit_status, 0) << r.err;
+  const nlohmann::json map = ReadJson(out / "map.json");
+  EXPECT_EQ(map["calibration"]["block"], 16) << map["calibration"].dump();
+  EXPECT_EQ(map["settings"]["likelihood"]["sandwich_blocks"], 16);
+  const auto bad = RunCommand(SmallRun(dir, 40) + " --set likelihood.sandwich_blocks=24 -o " + Q(dir / "bad"));
+  EXPECT_EQ(bad.exit_status, 2);
+  EXPECT_NE(bad.err.find("likelihood.sandwich_blocks"), std::string::npos) << bad.err;
+}
+
 // Issue 13's "kill anywhere": SIGKILL at 20 moments drawn uniformly over an uninterrupted
 // run's duration (loading, sampling, settling, writing the outputs), each resumed with
 // --resume, must end with the uninterrupted run's map and chain every time. A shorter run
