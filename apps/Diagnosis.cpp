@@ -172,8 +172,9 @@ Diagnosis Diagnose(const Scene& scene, const Evaluation& at_map, double sigma_25
   }
   if (!model.empty()) {
     Worsen(&d, Diagnosis::Verdict::ModelError);
-    // κ over 8×8 blocks measures the noise, not a bias that what the scene leaves out gives
-    // the mode (docs/LIKELIHOOD.md, "Honest intervals"): say so, and what widens them.
+    // κ over blocks of a fixed size (8×8 above all) measures the noise, not a bias that what
+    // the scene leaves out gives the mode (docs/LIKELIHOOD.md, "Honest intervals"): say so,
+    // and what widens them.
     if (scene.likelihood.sandwich_blocks != 0)
       model.push_back("the intervals allow for the photographs' noise, not for what the scene leaves out, which can "
                       "move the MAP beyond them: model it, or set likelihood.sandwich_blocks to \"auto\" for "

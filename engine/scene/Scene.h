@@ -141,8 +141,9 @@ struct LikelihoodSettings {
   // settles on (pipelines/likelihood/ClutterMasks.h).
   bool clutter = true;
   // Texels per side of the blocks behind κ, the sandwich factor (pipelines/likelihood/
-  // NoiseCalibration.h): 8, 16, 32 or 64; 0 ("auto") takes the largest κ over those sizes.
-  int sandwich_blocks = 8;
+  // NoiseCalibration.h): 8, 16, 32 or 64; 0 ("auto", the default) takes the largest κ over
+  // those sizes.
+  int sandwich_blocks = 0;
   // The image-space likelihood only (docs/IMAGE_SPACE.md): 0 compares every ordered camera
   // pair; k > 0 each target camera with its k best sources, ranked by `partner_ranking`
   // ("distance": nearest centres, "direction": most similar optical axes).

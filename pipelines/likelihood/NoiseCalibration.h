@@ -61,11 +61,11 @@ struct NoiseCalibration {
 // independent ones: J, and with it κ, comes out too small by about the number of blocks per
 // region. Where the scene leaves something out (an annex, a relief, a lighting the model
 // lacks) the residuals are correlated over whole faces, far beyond the 2–3 texels that
-// resampling correlates. Larger blocks are unbiased but noisier (fewer of them). The default
-// stays 8×8 (`likelihood.sandwich_blocks`); "auto" takes the largest κ over these sides
-// among those that still leave enough blocks, erring toward width. Measured, it widens
-// house_annex's intervals for its annex (1 → 4 of 7 truths held) but every bundled asset's
-// too, some far beyond their errors (docs/LIKELIHOOD.md, "Honest intervals").
+// resampling correlates. Larger blocks are unbiased but noisier (fewer of them). "auto" (the
+// default of `likelihood.sandwich_blocks`) takes the largest κ over these sides among those
+// that still leave enough blocks, erring toward width: on house_annex over three seeds 13 of
+// 21 truths held against 5 of 21 over 8×8 blocks, while the clean bundled assets' intervals
+// widen too, some far beyond their errors (docs/LIKELIHOOD.md, "Honest intervals").
 inline constexpr int kSandwichBlockSides[] = {8, 16, 32, 64};
 inline constexpr int kSandwichBlocksAuto = 0;
 
@@ -100,7 +100,7 @@ NoiseCalibration NoiseCalibrationFromJson(const nlohmann::json& json);  // throw
 // one, or a likelihood whose dumps carry no deviation image (image-space kind), leaves κ = 1.
 NoiseCalibration CalibrateNoise(Likelihood& likelihood, const std::vector<double>& psi,
                                 const std::vector<double>& covariance, double current_kappa,
-                                bool estimate_sigma, bool mask_clutter, int sandwich_blocks = 8,
+                                bool estimate_sigma, bool mask_clutter, int sandwich_blocks = kSandwichBlocksAuto,
                                 double sigma_floor = 2.0);
 
 }  // namespace vkr

@@ -84,14 +84,16 @@ TEST(Diagnosis, NamesTheNodeThatDisagrees) {
   EXPECT_TRUE(Mentions(d, "box: 20 %")) << d.notes.front();
   EXPECT_FALSE(Mentions(d, "ground:"));
   EXPECT_TRUE(d.json["nodes"][1]["disagrees"].get<bool>());
-  // With the default sandwich blocks it says the intervals do not cover the bias, and how to
-  // widen them; with "auto" already set, it does not suggest it.
-  EXPECT_TRUE(Mentions(d, "likelihood.sandwich_blocks to \"auto\""));
-  Scene wide = OneParameterScene();
-  wide.likelihood.sandwich_blocks = 0;
-  EXPECT_FALSE(Mentions(Diagnose(wide, in.at_map, 8.0, in.summary, in.nodes, in.reprojections, in.clutter),
-                        "sandwich_blocks"));
-  EXPECT_FALSE(Mentions(Inputs().Run(), "sandwich_blocks"));  // no model error, no hint
+  // With fixed sandwich blocks it says the intervals do not cover the bias, and how to widen
+  // them; with "auto" (the default) it has nothing to suggest.
+  EXPECT_FALSE(Mentions(d, "sandwich_blocks"));
+  Scene fixed = OneParameterScene();
+  fixed.likelihood.sandwich_blocks = 8;
+  const auto with_fixed_blocks = [&](const Inputs& inputs) {
+    return Diagnose(fixed, inputs.at_map, 8.0, inputs.summary, inputs.nodes, inputs.reprojections, inputs.clutter);
+  };
+  EXPECT_TRUE(Mentions(with_fixed_blocks(in), "likelihood.sandwich_blocks to \"auto\""));
+  EXPECT_FALSE(Mentions(with_fixed_blocks(Inputs()), "sandwich_blocks"));  // no model error, no hint
 }
 
 TEST(Diagnosis, NamesThePhotographsThatShowClutter) {
