@@ -17,8 +17,8 @@
 //     log-likelihood overstates the evidence. The block sandwich (Huber–White) estimator
 //     measures the real variability of the score: J = Σ_b G_b G_bᵀ, G_b the gradient of
 //     the log-likelihood summed over a block of texels, from per-texel deviations at
-//     ψ ± one sd of each parameter (SandwichOverBlocks: the block size is chosen from the
-//     data). The robust covariance is H⁻¹ J H⁻¹; the log-likelihood
+//     ψ ± one sd of each parameter (SandwichOverBlocks: blocks of a given side, or with
+//     "auto" the side that gives the largest κ). The robust covariance is H⁻¹ J H⁻¹; the log-likelihood
 //     is divided by κ = tr(H⁻¹J)/d (a magnitude adjustment), so the posterior the chains
 //     sample has that covariance on average over directions. κ does not depend on σ (J
 //     scales as σ⁻⁴, H as σ⁻²): intervals follow the deviations actually found.
