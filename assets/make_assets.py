@@ -209,7 +209,7 @@ def box_parameters():
 PHOTO = {"sun": [135, 40], "ambient": 0.3, "exposure": 0.3, "supersample": 3}
 
 
-def write_asset(name, scene, truth, cameras, textures, synth_scene=None, meshes=None):
+def write_asset(name, scene, truth, cameras, textures, synth_scene=None, meshes=None, variants=None):
     folder = os.path.join(HERE, name)
     os.makedirs(os.path.join(folder, "textures"), exist_ok=True)
     for file, make in textures.items():
@@ -220,6 +220,7 @@ def write_asset(name, scene, truth, cameras, textures, synth_scene=None, meshes=
     scenes = {"scene.json": scene}
     if synth_scene:
         scenes["synth.json"] = synth_scene
+    scenes.update(variants or {})
     for file, body in scenes.items():
         full = {"version": 1, "images": "images/", "cameras": "cameras.json"}
         full.update(body)
@@ -358,12 +359,20 @@ def clutter_assets(ground_tex):
                            "albedo": "textures/window.png",
                            "transforms": [{"translate": [along, "%g*(d/2 + 0.01)" % sign, 0.24]},
                                           {"scale": [0.17, 0.02, 0.2]}]})
-    write_asset("house_annex", {
+    # What a user does who sees the roof overhang the walls: one more parameter, the overhang e,
+    # with the roof scaled to (w + 2e) × (d + 2e) (docs/REAL_PHOTOS.md, "The synthetic clutter
+    # assets": without it the MAP follows the roof's planes, not the walls).
+    eaves_roof = dict(roof, transforms=[{"translate": [0, 0, 1]},
+                                        {"scale": ["1 + 2*e/w", "1 + 2*e/d", "rh/h"]}])
+    house_annex_scene = {
         "parameters": house_params,
         "nodes": [GROUND, walls, roof],
         "likelihood": dict(LIKELIHOOD),
         "sampler": dict(SAMPLER),
-    }, house_truth, ring(7, 3.5, 2.2, [0.0, 0.0, 0.4], jitter=0.15, seed=3),
+    }
+    eaves_scene = dict(house_annex_scene, parameters=dict(house_params, e=uniform(0.0, 0.1)),
+                       nodes=[GROUND, walls, eaves_roof])
+    write_asset("house_annex", house_annex_scene, house_truth, ring(7, 3.5, 2.2, [0.0, 0.0, 0.4], jitter=0.15, seed=3),
         dict(ground_tex, **{"walls.png": lambda p: texture(p, 3, (0.8, 0.75, 0.6)),
                             "roof.png": lambda p: texture(p, 4, (0.55, 0.2, 0.15)),
                             "annex.png": lambda p: texture(p, 13, (0.72, 0.7, 0.62)),
@@ -371,7 +380,8 @@ def clutter_assets(ground_tex):
                             "window.png": lambda p: texture(p, 15, (0.18, 0.2, 0.25), contrast=0.5)}),
         synth_scene={"parameters": house_params,
                      "nodes": [GROUND, frame, true_walls, true_roof] + extras,
-                     "synth": dict(PHOTO)})
+                     "synth": dict(PHOTO)},
+        variants={"scene_eaves.json": eaves_scene})
 
     # crate_clutter: the box asset's crate, photographed with a ball and a pole standing in
     # front of it that the model leaves out.
