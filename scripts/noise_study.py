@@ -15,6 +15,7 @@ Usage (normally through scripts/noise_study.sh, which builds vkrecon first):
   scripts/noise_study.sh --assets box,house --sigmas 0,16
   scripts/noise_study.sh --quick --assets box --sigmas 0,16 --work /tmp/ns --report /tmp/ns/r.md --plot /tmp/ns/p.svg
   scripts/noise_study.sh --reuse                           # resume an interrupted study
+  scripts/noise_study.sh --assets house_annex --scene scene_eaves.json --sigmas 8   # a variant scene
 
 Python 3 standard library only. The binary is $VKRECON (default build/apps/vkrecon).
 Exit status: 0 the study ran and the report is written (whatever the bars say), 2 bad
@@ -75,6 +76,9 @@ def parse_args(argv):
                    help="comma-separated folders under assets/ (default %(default)s)")
     p.add_argument("--sigmas", default=",".join(f"{s:g}" for s in DEFAULT_SIGMAS),
                    help="comma-separated noise sd on the 0-255 scale (default %(default)s)")
+    p.add_argument("--scene", default="scene.json", metavar="FILE",
+                   help="the scene file reconstructed, in each asset's folder (default %(default)s; "
+                        "e.g. house_annex's scene_eaves.json); the photographs stay the asset's")
     p.add_argument("--seed", type=int, default=1, help="noise seed for synth (default 1)")
     p.add_argument("--scale", type=float, help="image size factor for synth (default: full size)")
     p.add_argument("--likelihood-sigma", default="auto", metavar="auto|given|NUMBER",
@@ -143,18 +147,18 @@ def fmt_sigma(sigma):
 
 # ----------------------------------------------------------------------------- assets
 
-def load_asset(name):
+def load_asset(name, scene_file="scene.json"):
     """Truth and prior widths of one asset; a width makes errors comparable across parameters."""
     folder = ROOT / "assets" / name
-    scene_path, truth_path = folder / "scene.json", folder / "truth.json"
-    for path in (scene_path, truth_path):
+    scene_path, truth_path = folder / scene_file, folder / "truth.json"
+    for path, option in ((folder / "scene.json", "--assets"), (truth_path, "--assets"), (scene_path, "--scene")):
         if not path.is_file():
-            raise UsageError(f"--assets: {path.relative_to(ROOT)} does not exist")
+            raise UsageError(f"{option}: {path.relative_to(ROOT)} does not exist")
     scene, truth = read_json(scene_path), read_json(truth_path)
     widths = {k: prior_width(scene_path, k, v.get("prior", {}))
               for k, v in scene.get("parameters", {}).items()}
     # The clutter assets photograph a truer scene than the model (assets/make_assets.py).
-    synth_path = folder / "synth.json" if (folder / "synth.json").is_file() else scene_path
+    synth_path = folder / "synth.json" if (folder / "synth.json").is_file() else folder / "scene.json"
     return {"name": name, "scene": scene_path, "synth_scene": synth_path, "truth_path": truth_path,
             "truth": truth, "widths": widths}
 
@@ -626,7 +630,7 @@ def main(argv):
     vkrecon = os.environ.get("VKRECON", "build/apps/vkrecon")
     if not (ROOT / vkrecon).is_file() and not Path(vkrecon).is_file():
         raise UsageError(f"{vkrecon}: no vkrecon binary (build it with scripts/build.sh vkrecon)")
-    assets = [load_asset(a) for a in args.assets]
+    assets = [load_asset(a, args.scene) for a in args.assets]
     work, report_path, plot_path = (ROOT / args.work, ROOT / args.report, ROOT / args.plot)
     prog = os.environ.get("NOISE_STUDY_PROG", "scripts/noise_study.py")
     dirty = capture(["git", "status", "--porcelain", "--untracked-files=no"])
@@ -637,7 +641,7 @@ def main(argv):
                   + (" with uncommitted changes" if dirty else ""),
         "devices": capture([vkrecon, "devices"]).splitlines(),
         "load_before": loadavg(), "assets": args.assets, "sigmas": args.sigmas,
-        "seed": args.seed, "scale": args.scale, "likelihood_sigma": args.likelihood_sigma,
+        "scene": args.scene, "seed": args.seed, "scale": args.scale, "likelihood_sigma": args.likelihood_sigma,
         "distortion": args.distortion,
         "sets": args.sets, "reuse": args.reuse}
 
