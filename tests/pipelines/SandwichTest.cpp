@@ -37,6 +37,14 @@ std::vector<std::vector<double>> Scores(int patch, unsigned seed) {
   return gradient;
 }
 
+// Scores constant over 32×32 patches (Scores(kPatch, 11)) and the H⁻¹ that makes their κ 1
+// when measured over blocks that hold whole patches: J = 1024²·patches·I there.
+constexpr int kPatch = 32;
+std::vector<double> InverseCurvatureForPatches() {
+  const double patches = double(kSide / kPatch) * (kSide / kPatch);
+  return ScaledIdentity(1.0 / (double(kPatch * kPatch) * (kPatch * kPatch) * patches));
+}
+
 TEST(Sandwich, IndependentTexelsGiveTheCurvaturesKappaWhateverTheBlocks) {
   // J = N·I per texel-independent unit scores; with H⁻¹ = I/N the sandwich is κ = 1 in
   // expectation at every block size. Taking the largest over sizes may add estimation noise,
@@ -51,11 +59,8 @@ TEST(Sandwich, IndependentTexelsGiveTheCurvaturesKappaWhateverTheBlocks) {
 TEST(Sandwich, ScoresCorrelatedOverPatchesAreMeasuredOverBlocksAsLargeAsThePatches) {
   // 32×32 patches of one score each: J over blocks of 32 or more is 1024²·patches·I, over 8×8
   // blocks 16× less. With H⁻¹ for the former, κ must be about 1 — 8×8 blocks alone give 1/16.
-  constexpr int kPatch = 32;
-  const double patches = double(kSide / kPatch) * (kSide / kPatch);
-  const double j = double(kPatch * kPatch) * (kPatch * kPatch) * patches;
   const std::optional<BlockSandwich> s =
-      SandwichOverBlocks(Scores(kPatch, 11), kSide, ScaledIdentity(1.0 / j), kSandwichBlocksAuto);
+      SandwichOverBlocks(Scores(kPatch, 11), kSide, InverseCurvatureForPatches(), kSandwichBlocksAuto);
   ASSERT_TRUE(s.has_value());
   EXPECT_GE(s->block, kPatch);
   EXPECT_GT(s->kappa, 0.5);
@@ -65,10 +70,7 @@ TEST(Sandwich, ScoresCorrelatedOverPatchesAreMeasuredOverBlocksAsLargeAsThePatch
 TEST(Sandwich, BlocksOfAGivenSizeMeasureOnlyWhatTheyHold) {
   // The same scores over the default 8×8 blocks: each patch counts as 16 independent blocks,
   // so κ comes out about 16× too small — why `sandwich_blocks: auto` exists.
-  constexpr int kPatch = 32;
-  const double patches = double(kSide / kPatch) * (kSide / kPatch);
-  const double j = double(kPatch * kPatch) * (kPatch * kPatch) * patches;
-  const std::optional<BlockSandwich> s = SandwichOverBlocks(Scores(kPatch, 11), kSide, ScaledIdentity(1.0 / j), 8);
+  const std::optional<BlockSandwich> s = SandwichOverBlocks(Scores(kPatch, 11), kSide, InverseCurvatureForPatches(), 8);
   ASSERT_TRUE(s.has_value());
   EXPECT_EQ(s->block, 8);
   EXPECT_EQ(s->blocks, (kSide / 8) * (kSide / 8));
