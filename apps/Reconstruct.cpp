@@ -435,6 +435,7 @@ ReconstructResult Reconstruct(const ReconstructOptions& options, vk::Device& dev
                                                                            : nlohmann::json(scene.likelihood.sigma)},
                                      {"weights", scene.likelihood.weights}, {"atlas", scene.likelihood.atlas},
                                      {"levels", scene.likelihood.levels},
+                                     {"charts", scene.likelihood.charts},
                                      {"photometric", scene.likelihood.photometric},
                                      {"clutter", scene.likelihood.clutter},
                                      {"sandwich_blocks", scene.likelihood.sandwich_blocks == 0

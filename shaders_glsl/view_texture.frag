@@ -15,6 +15,7 @@ layout(constant_id = 0) const uint kCheckValidity = 0u;    // 0: every pixel cou
 layout(location = 0) in vec4 clip;
 layout(location = 1) in vec3 world;
 layout(location = 2) in vec3 normal;
+layout(location = 3) flat in float texel_area;  // world area of one full-resolution texel of this chart
 layout(location = 0) out uvec2 view;  // view_texel.glsl
 
 void main() {
@@ -24,7 +25,7 @@ void main() {
   if (z <= near) return;
   const vec2 ndc = clip.xy / z;
   if (abs(ndc.x) > 1.0 || abs(ndc.y) > 1.0) return;
-  const vec3 to_camera = pc.centre_texel_area.xyz - world;
+  const vec3 to_camera = pc.centre.xyz - world;
   const float distance = length(to_camera);
   const float cos_theta = dot(normalize(normal), to_camera / distance);
   if (cos_theta <= 0.0) return;
@@ -41,7 +42,7 @@ void main() {
   // The texel's footprint in full-resolution pixels. Where a texel covers several pixels,
   // the colour comes from the pyramid level that averages them (mip LOD ½·log₂ footprint):
   // a point sample would alias, and aliasing disagrees between views like misregistration.
-  const float footprint = pc.centre_texel_area.w * cos_theta * pc.params.x / (z * z);
+  const float footprint = texel_area * cos_theta * pc.params.x / (z * z);
   const float lod = pc.level + max(0.0, 0.5 * log2(max(footprint, 1e-12)));
   // Masked pixels and the undistorted photograph's empty border are not evidence: a sample
   // that touches any of them (the same uv and LOD) is dropped, never compared as black. It

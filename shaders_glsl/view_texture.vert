@@ -13,12 +13,14 @@ layout(location = 0) in vec3 in_position;
 layout(location = 1) in vec3 in_normal;
 layout(location = 2) in vec2 in_atlas_uv;
 layout(location = 3) in uint in_node;
+layout(location = 5) in float in_texel_area;  // its chart's (Atlas.h: charts may differ in scale)
 
 layout(std430, set = 0, binding = 0) readonly buffer NodeMatrices { mat4 world_from_node[]; };
 
 layout(location = 0) out vec4 clip;
 layout(location = 1) out vec3 world;
 layout(location = 2) out vec3 normal;
+layout(location = 3) flat out float texel_area;
 
 void main() {
   const mat4 m = world_from_node[pc.node_offset + in_node];
@@ -26,5 +28,6 @@ void main() {
   world = w.xyz;
   clip = pc.clip_from_world * w;
   normal = transpose(inverse(mat3(m))) * in_normal;
+  texel_area = in_texel_area;
   gl_Position = AtlasPosition(in_atlas_uv);
 }

@@ -5,6 +5,7 @@
 layout(location = 0) in vec4 clip;  // view_texture.vert's outputs, unused: declared so the
 layout(location = 1) in vec3 world; // interface between the stages matches
 layout(location = 2) in vec3 normal;
+layout(location = 3) flat in float texel_area;
 layout(location = 0) out uvec2 view;
 
 void main() { view = uvec2(0u); }

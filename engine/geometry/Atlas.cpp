@@ -4,7 +4,9 @@
 //
 // Chart sizes follow the faces' world extents so every face gets (about) the same number
 // of texels per metre: a texel then stands for the same patch of surface everywhere, and
-// the likelihood weighs surface area, not face count.
+// the likelihood weighs surface area, not face count. A density per face scales that
+// (likelihood.charts "pixels", AtlasFootprint.h): texels then follow what the photographs
+// show of each face, and the view pass reads each chart's own texel area.
 
 #include <Eigen/Dense>
 #include <algorithm>
@@ -24,6 +26,7 @@ constexpr int kMinChartTexels = 4;  // a chart never shrinks below 4×4 texels
 struct Extent {
   int node = 0, face = 0;
   double u = 0.0, v = 0.0;
+  double density = 1.0;  // multiplies the layout's scale for this face
 };
 
 // The largest ‖∂P/∂u‖ and ‖∂P/∂v‖ over the face's triangles, P the world position: for a
@@ -65,7 +68,8 @@ bool Shelve(const std::vector<Extent>& extents, const std::vector<int>& order, d
             int size, int gutter, std::vector<Chart>* charts) {
   int x = 0, y = 0, shelf = 0;
   for (int i : order) {
-    const int w = ChartSide(extents[i].u, scale), h = ChartSide(extents[i].v, scale);
+    const double s = scale * extents[i].density;
+    const int w = ChartSide(extents[i].u, s), h = ChartSide(extents[i].v, s);
     const int fw = w + 2 * gutter, fh = h + 2 * gutter;
     if (fw > size) return false;
     if (x + fw > size) {
@@ -75,7 +79,7 @@ bool Shelve(const std::vector<Extent>& extents, const std::vector<int>& order, d
     if (y + fh > size) return false;
     if (charts) {
       (*charts)[i] = {extents[i].node, extents[i].face, float(x + gutter), float(y + gutter),
-                      float(w), float(h)};
+                      float(w), float(h), s};
     }
     x += fw;
     shelf = std::max(shelf, fh);
@@ -90,7 +94,8 @@ Eigen::Vector2f AtlasLayout::AtlasUv(const Chart& c, const Eigen::Vector2f& face
 }
 
 AtlasLayout PackAtlas(const std::vector<Mesh>& meshes,
-                      const std::vector<Eigen::Matrix4d>& world_from_node, int size, int gutter) {
+                      const std::vector<Eigen::Matrix4d>& world_from_node, int size, int gutter,
+                      const std::vector<double>& density) {
   if (meshes.size() != world_from_node.size())
     throw std::invalid_argument("PackAtlas: one world_from_node per mesh expected");
   if (size <= 0 || gutter < 0) throw std::invalid_argument("PackAtlas: bad size or gutter");
@@ -104,13 +109,25 @@ AtlasLayout PackAtlas(const std::vector<Mesh>& meshes,
       extents.push_back(e);
     }
   }
+  if (!density.empty()) {
+    if (density.size() != extents.size())
+      throw std::invalid_argument("PackAtlas: " + std::to_string(density.size()) + " densities for " +
+                                  std::to_string(extents.size()) + " faces");
+    for (size_t i = 0; i < extents.size(); ++i) {
+      if (!(density[i] > 0.0 && std::isfinite(density[i])))
+        throw std::invalid_argument("PackAtlas: face density " + std::to_string(density[i]) + " must be > 0");
+      extents[i].density = density[i];
+    }
+  }
 
-  // Chart heights grow monotonically with the extent along v, so one sort serves every
-  // scale; wider first among equals packs shelves a little tighter.
+  // Chart heights grow monotonically with the scaled extent along v, so one sort serves
+  // every scale; wider first among equals packs shelves a little tighter.
   std::vector<int> order(extents.size());
   std::iota(order.begin(), order.end(), 0);
   std::stable_sort(order.begin(), order.end(), [&](int a, int b) {
-    return extents[a].v != extents[b].v ? extents[a].v > extents[b].v : extents[a].u > extents[b].u;
+    const double va = extents[a].v * extents[a].density, vb = extents[b].v * extents[b].density;
+    const double ua = extents[a].u * extents[a].density, ub = extents[b].u * extents[b].density;
+    return va != vb ? va > vb : ua > ub;
   });
 
   AtlasLayout layout;
@@ -127,7 +144,7 @@ AtlasLayout PackAtlas(const std::vector<Mesh>& meshes,
   // would be wider than the atlas). Shelf packing is not strictly monotone in the scale,
   // but `lo` always fits, which is all the layout needs.
   double largest = 0.0;
-  for (const Extent& e : extents) largest = std::max({largest, e.u, e.v});
+  for (const Extent& e : extents) largest = std::max({largest, e.u * e.density, e.v * e.density});
   double lo = 0.0;
   if (largest > 0.0) {
     double hi = (size + 1.0) / largest;

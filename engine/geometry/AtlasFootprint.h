@@ -25,8 +25,21 @@ constexpr double kPixelsPerTexel = 4.0;
 constexpr double kPackingShare = 0.5;
 constexpr int kMinAutoAtlas = 64, kMaxAutoAtlas = 2048;
 
-// Pixels of the face in the view that sees it largest, summed over faces.
+// Pixels of each face (in (node, face) order) in the view that sees it largest, at `psi`:
+// the part in front of the camera, projected and clipped to the image (occlusion ignored).
+std::vector<double> FacePixels(const Scene& scene, const std::vector<Mesh>& meshes, const std::vector<double>& psi);
+// What the sizing rule above sums at the initial values: the same, but counting nothing of
+// a triangle with a corner behind a camera and clipping by bounding box, as when its
+// constants were fitted.
 double SurfaceFootprintPixels(const Scene& scene, const std::vector<Mesh>& meshes);
+
+// likelihood.charts "pixels": each face's density for PackAtlas (Atlas.h), such that its
+// texels are in proportion to its FacePixels at `psi` — √(pixels / area) texels per metre,
+// up to the common scale the packer fits. A face that covers few pixels at `psi` (seen
+// edge-on, hidden behind a camera) is kept at no less than a quarter of the density that
+// spreads all the pixels evenly over all the surface, so that a hypothesis turning it
+// towards a camera still finds texels there. "area": empty (every face density 1).
+std::vector<double> ChartDensities(const Scene& scene, const std::vector<Mesh>& meshes, const std::vector<double>& psi);
 
 // The rule above for a footprint of `pixels`.
 int AutoAtlasSide(double pixels);

@@ -8,6 +8,7 @@
 #include <string>
 
 #include "engine/common/InputError.h"
+#include "engine/geometry/AtlasFootprint.h"
 #include "engine/geometry/SceneGeometry.h"
 
 namespace vkr {
@@ -37,7 +38,8 @@ SceneGeometry BuildSceneGeometry(const Scene& scene, const std::vector<double>& 
     throw InputError(scene.file.string(), "nodes", "no node has a primitive: there is nothing to draw");
   // The layout is decided once, at psi_layout (usually the initial values): chart sizes
   // follow the world extents there, and stay fixed while the sampler moves the geometry.
-  g.atlas = PackAtlas(g.meshes, scene.WorldFromNode(psi_layout), atlas_size);
+  g.atlas = PackAtlas(g.meshes, scene.WorldFromNode(psi_layout), atlas_size, 2,
+                      ChartDensities(scene, g.meshes, psi_layout));
 
   // PackAtlas lists charts in (node, face) order, so a node's faces start at first_chart.
   size_t chart = 0;
@@ -50,6 +52,7 @@ SceneGeometry BuildSceneGeometry(const Scene& scene, const std::vector<double>& 
         throw std::logic_error("BuildSceneGeometry: atlas charts out of (node, face) order");
       // Vertices are emitted per face: one shared by two faces (none of ours is) would
       // need two atlas positions, so it is duplicated rather than given the wrong one.
+      const double texel = 1.0 / c.texels_per_metre;
       remap.assign(mesh.positions.size(), -1);
       const Face& face = mesh.faces[f];
       for (int t = face.first_triangle; t < face.first_triangle + face.triangle_count; ++t) {
@@ -67,6 +70,7 @@ SceneGeometry BuildSceneGeometry(const Scene& scene, const std::vector<double>& 
             v.atlas_uv[1] = uv.y();
             v.node = uint32_t(n);
             v.face = uint32_t(chart);
+            v.texel_area = float(texel * texel);
             g.vertices.push_back(v);
           }
           g.indices.push_back(uint32_t(remap[i]));

@@ -19,8 +19,9 @@ struct GpuVertex {
   float atlas_uv[2];  // [0,1]², atlas texel centre convention: texel (i,j) at ((i+.5)/N, (j+.5)/N)
   uint32_t node;      // index into Scene::nodes
   uint32_t face;      // global face (= chart) index, for per-face lookups
+  float texel_area;   // world area of one full-resolution texel of the vertex's chart (m²)
 };
-static_assert(sizeof(GpuVertex) == 40);
+static_assert(sizeof(GpuVertex) == 44);
 
 struct SceneGeometry {
   std::vector<Mesh> meshes;  // per node; empty for transform-only nodes
@@ -34,7 +35,7 @@ struct SceneGeometry {
 std::vector<Mesh> BuildMeshes(const Scene& scene);
 
 // Builds meshes (primitives, glTF files), packs the atlas at Ψ = `psi_layout` (usually the
-// initial values) and flattens. Throws InputError for unreadable meshes.
+// initial values; with the scene's likelihood.charts, AtlasFootprint.h) and flattens. Throws InputError for unreadable meshes.
 SceneGeometry BuildSceneGeometry(const Scene& scene, const std::vector<double>& psi_layout,
                                  int atlas_size);
 

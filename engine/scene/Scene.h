@@ -131,6 +131,11 @@ struct LikelihoodSettings {
   // AtlasFootprint.h), which every command that builds a likelihood calls after loading.
   int atlas = 0;
   int levels = 0;
+  // How the atlas shares its texels among the faces (engine/geometry/Atlas.h): "area" (the
+  // default), the same texels per metre everywhere; "pixels", in proportion to the pixels
+  // each face covers in the camera that sees it largest at the initial values, so surface
+  // the photographs show in detail is not starved by a wide ground they see obliquely.
+  std::string charts = "area";
   // Per-camera colour correction of the surface likelihood: "none", "gain" or "affine"
   // (pipelines/model/Photometric.h).
   std::string photometric = "affine";

@@ -73,7 +73,7 @@ bool IsWord(const Reader& r, const Json& j, const std::string& path, const char*
 
 void ReadLikelihood(const Reader& r, const Json& j, LikelihoodSettings& s) {
   const std::string path = "likelihood";
-  r.CheckObject(j, path, {"kind", "sigma", "weights", "atlas", "levels", "photometric", "clutter", "slot_images",
+  r.CheckObject(j, path, {"kind", "sigma", "weights", "atlas", "levels", "charts", "photometric", "clutter", "slot_images",
                          "partners", "partner_ranking", "sandwich_blocks"});
   if (auto it = j.find("kind"); it != j.end()) {
     s.kind = r.String(*it, "likelihood.kind");
@@ -105,6 +105,11 @@ void ReadLikelihood(const Reader& r, const Json& j, LikelihoodSettings& s) {
     s.levels = 0;
   else if (it != j.end())
     s.levels = int(r.Integer(*it, "likelihood.levels", 1, 8));
+  if (auto it = j.find("charts"); it != j.end()) {
+    s.charts = r.String(*it, "likelihood.charts");
+    if (s.charts != "area" && s.charts != "pixels")
+      r.Fail("likelihood.charts", "unknown chart sizing '" + s.charts + "' (area, pixels)");
+  }
   if (auto it = j.find("slot_images"); it != j.end()) {
     s.slot_images = r.String(*it, "likelihood.slot_images");
     if (s.slot_images != "auto" && s.slot_images != "shared" && s.slot_images != "per_slot")

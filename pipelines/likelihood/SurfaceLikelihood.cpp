@@ -173,8 +173,6 @@ struct SurfaceLikelihood::Impl {
     v.clip_from_world = ClipFromWorld(camera);
     v.centre = camera.Centre();
     v.fx_fy = camera.K(0, 0) * camera.K(1, 1);
-    const double texel = 1.0 / geometry.atlas.texels_per_metre;
-    v.texel_area = texel * texel;
     v.level = level;
     return v;
   }

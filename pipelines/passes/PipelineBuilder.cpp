@@ -34,6 +34,7 @@ vk::Pipeline CreateGraphicsPipeline(const vk::Device& device, const GraphicsPipe
       {2, 0, VK_FORMAT_R32G32_SFLOAT, offsetof(GpuVertex, atlas_uv)},
       {3, 0, VK_FORMAT_R32_UINT, offsetof(GpuVertex, node)},
       {4, 0, VK_FORMAT_R32_UINT, offsetof(GpuVertex, face)},
+      {5, 0, VK_FORMAT_R32_SFLOAT, offsetof(GpuVertex, texel_area)},
   };
   std::vector<VkVertexInputAttributeDescription> attributes;
   for (const auto& a : all_attributes)

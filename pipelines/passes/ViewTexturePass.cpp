@@ -14,7 +14,7 @@ namespace {
 // Mirrors shaders_glsl/view_texture_push.glsl.
 struct ViewTexturePush {
   float clip_from_world[16];
-  float centre_texel_area[4];
+  float centre[4];  // w unused
   float params[4];  // fx·fy, depth tolerance, weights mode, near
   uint32_t node_offset;
   float level;
@@ -52,7 +52,7 @@ ViewTexturePass::ViewTexturePass(vk::Device& device, const GpuScene& scene, int 
   desc.fragment = frag;
   desc.layout = layout_;
   desc.colour_formats = {kFormat};
-  desc.vertex_attributes = 0b01111;  // position, normal, atlas_uv, node
+  desc.vertex_attributes = 0b101111;  // position, normal, atlas_uv, node, texel_area
   desc.fragment_constants = {0};     // kCheckValidity: cameras where every pixel counts skip the read
   pipeline_ = CreateGraphicsPipeline(device, desc);
   desc.fragment_constants = {1};
@@ -81,8 +81,7 @@ void ViewTexturePass::record(VkCommandBuffer cmd, const ViewCamera& camera, cons
   ViewTexturePush push{};
   const Eigen::Matrix4f clip = camera.clip_from_world.cast<float>();
   std::memcpy(push.clip_from_world, clip.data(), sizeof(push.clip_from_world));
-  for (int k = 0; k < 3; ++k) push.centre_texel_area[k] = float(camera.centre[k]);
-  push.centre_texel_area[3] = float(camera.texel_area);
+  for (int k = 0; k < 3; ++k) push.centre[k] = float(camera.centre[k]);
   push.params[0] = float(camera.fx_fy);
   push.params[1] = float(depth_tolerance_);
   push.params[2] = angle_weights_ ? 1.0f : 0.0f;

@@ -19,8 +19,7 @@ namespace vkr {
 struct ViewCamera {
   Eigen::Matrix4d clip_from_world;
   Eigen::Vector3d centre;
-  double fx_fy = 1.0;       // K(0,0)·K(1,1), for the footprint
-  double texel_area = 0.0;  // world area of one full-resolution atlas texel (m²)
+  double fx_fy = 1.0;       // K(0,0)·K(1,1), for the footprint (a texel's area is its chart's: GpuVertex)
   int level = 0;            // pyramid level: the reference is sampled at LOD ≥ level
 };
 

@@ -71,6 +71,30 @@ TEST(Atlas, ChartsFollowWorldExtentsAtOneScale) {
   EXPECT_GT(used, 0.5 * 256 * 256);
 }
 
+// likelihood.charts "pixels" hands PackAtlas a density per face: a chart is its world size
+// at the common scale times its face's density, and records the scale it got.
+TEST(Atlas, ADensityPerFaceScalesItsChart) {
+  const std::vector<Mesh> meshes = {MakePrimitive(PrimitiveKind::Box)};
+  const std::vector<double> density = {1.0, 0.5, 2.0, 0.25, 1.0, 1.0};
+  const AtlasLayout a = PackAtlas(meshes, {Scale(2, 1, 1)}, 256, 2, density);
+  ASSERT_EQ(a.charts.size(), 6u);
+  CheckDisjoint(a);
+  const double world[6][2] = {{2, 1}, {1, 1}, {2, 1}, {1, 1}, {2, 1}, {2, 1}};
+  for (int f = 0; f < 6; ++f) {
+    SCOPED_TRACE("face " + std::to_string(f));
+    const Chart& c = a.charts[f];
+    EXPECT_DOUBLE_EQ(c.texels_per_metre, a.texels_per_metre * density[f]);
+    ExpectSide(c.w, world[f][0], c.texels_per_metre);
+    ExpectSide(c.h, world[f][1], c.texels_per_metre);
+  }
+  // Face 2 (+y) is as large as face 0 (-y) in the world and gets twice the texels per side.
+  EXPECT_NEAR(a.charts[2].w / a.charts[0].w, 2.0, 0.1);
+  // Without densities every chart has the common scale.
+  for (const Chart& c : PackAtlas(meshes, {Scale(2, 1, 1)}, 256, 2).charts) EXPECT_GT(c.texels_per_metre, 0.0);
+  EXPECT_THROW(PackAtlas(meshes, {Scale(2, 1, 1)}, 256, 2, {1.0, 1.0}), std::invalid_argument);
+  EXPECT_THROW(PackAtlas(meshes, {Scale(2, 1, 1)}, 256, 2, {1.0, 1.0, 0.0, 1.0, 1.0, 1.0}), std::invalid_argument);
+}
+
 TEST(Atlas, ManyNodesPackWithoutOverlap) {
   std::mt19937 rng(3);
   std::uniform_real_distribution<double> s(0.2, 3.0);

@@ -101,11 +101,59 @@ struct Worst {
   double count = 0, dof = 0, sum_squares = 0;
 };
 
+// The GPU's scalars of every hypothesis against the CPU reference's, at levels 0 and 1,
+// for `scene` (the box's, or a variant of it) with `options`; the worst relative
+// differences are folded into `worst`.
+void ExpectScalarsAgree(const Scene& scene, const SurfaceLikelihoodOptions& options,
+                        const std::vector<std::pair<std::string, std::vector<double>>>& hypotheses,
+                        const std::vector<std::vector<Image>>& pyramids, Worst& worst) {
+  std::vector<std::vector<double>> batch;
+  for (const auto& h : hypotheses) batch.push_back(h.second);
+  const SceneGeometry geometry = BuildSceneGeometry(scene, scene.InitialValues(), options.atlas);
+  SurfaceLikelihood likelihood(GpuTest::device(), scene, options);
+  for (int level : {0, 1}) {
+    likelihood.SetLevel(level);
+    const std::vector<Evaluation> gpu = likelihood.Evaluate(batch);
+    ASSERT_EQ(gpu.size(), batch.size());
+    const double surface = SurfaceTexelCount(geometry, level);
+    for (size_t k = 0; k < batch.size(); ++k) {
+      const std::string what =
+          std::string(ToString(options.weights)) + " level " + std::to_string(level) + " " + hypotheses[k].first;
+      SCOPED_TRACE(what);
+      const ReducedScalars ref = ReferenceSurfaceScalars(scene, geometry, pyramids, batch[k], level, options, nullptr,
+                                                          ColourSampling::Prefiltered);
+      const ReducedScalars& g = gpu[k].scalars;
+      const double d_multi = std::abs(double(g.seen_multi) - ref.seen_multi) / surface;
+      const double d_once = std::abs(double(g.seen_once) - ref.seen_once) / surface;
+      const double d_none = std::abs(double(g.seen_none) - ref.seen_none) / surface;
+      const double d_interior = std::abs(double(g.interior) - ref.interior) / surface;
+      const double d_dof = std::abs(g.dof - ref.dof) / ref.dof;
+      const double d_sum = std::abs(g.sum_squares - ref.sum_squares) / ref.sum_squares;
+      std::printf("  %-28s gpu/ref multi %5u/%5u once %5u/%5u none %5u/%5u interior %5u/%5u"
+                  " dof %7.0f/%7.0f (%.2f%%) S %.5g/%.5g (%.2f%%)\n",
+                  what.c_str(), g.seen_multi, ref.seen_multi, g.seen_once, ref.seen_once, g.seen_none,
+                  ref.seen_none, g.interior, ref.interior, g.dof, ref.dof, 100 * d_dof, g.sum_squares,
+                  ref.sum_squares, 100 * d_sum);
+      EXPECT_GT(ref.seen_multi, 0u);
+      EXPECT_LE(d_multi, kCountTolerance);
+      EXPECT_LE(d_once, kCountTolerance);
+      EXPECT_LE(d_none, kCountTolerance);
+      EXPECT_LE(d_interior, kCountTolerance);
+      EXPECT_LE(d_dof, kDofTolerance);
+      // Plus an absolute allowance: at the truth of noise-free images S is nearly zero and
+      // the GPU's 8-bit colours (±0.5/255) add up to a quarter level's variance per dof.
+      EXPECT_LE(std::abs(g.sum_squares - ref.sum_squares),
+                kSumSquaresTolerance * ref.sum_squares + 0.25 * ref.dof / (255.0 * 255.0));
+      worst.count = std::max({worst.count, d_multi, d_once, d_none, d_interior});
+      worst.dof = std::max(worst.dof, d_dof);
+      worst.sum_squares = std::max(worst.sum_squares, d_sum);
+    }
+  }
+}
+
 TEST_F(SurfaceLikelihoodVsReference, ScalarsAgreeWithTheCpuReference) {
   const SynthBoxScene& box = Box();
   const auto hypotheses = Hypotheses();
-  std::vector<std::vector<double>> batch;
-  for (const auto& h : hypotheses) batch.push_back(h.second);
   const auto pyramids = LoadReferencePyramids(box.scene, GpuMipCount(box.scene));
   {
     const SceneGeometry geometry = BuildSceneGeometry(box.scene, box.scene.InitialValues(), 128);
@@ -113,50 +161,31 @@ TEST_F(SurfaceLikelihoodVsReference, ScalarsAgreeWithTheCpuReference) {
     EXPECT_EQ(NearPlaneCrossings(box.scene, geometry, hypotheses[0].second, 0, 1), 0);
   }
   Worst worst;
-  for (ViewWeights weights : {ViewWeights::Uniform, ViewWeights::Angle}) {
-    const SurfaceLikelihoodOptions options = Options(weights);
-    const SceneGeometry geometry = BuildSceneGeometry(box.scene, box.scene.InitialValues(), options.atlas);
-    SurfaceLikelihood likelihood(device(), box.scene, options);
-    for (int level : {0, 1}) {
-      likelihood.SetLevel(level);
-      const std::vector<Evaluation> gpu = likelihood.Evaluate(batch);
-      ASSERT_EQ(gpu.size(), batch.size());
-      const double surface = SurfaceTexelCount(geometry, level);
-      for (size_t k = 0; k < batch.size(); ++k) {
-        const std::string what = std::string(ToString(weights)) + " level " + std::to_string(level) + " " + hypotheses[k].first;
-        SCOPED_TRACE(what);
-        const ReducedScalars ref = ReferenceSurfaceScalars(box.scene, geometry, pyramids, batch[k], level, options, nullptr,
-                                                            ColourSampling::Prefiltered);
-        const ReducedScalars& g = gpu[k].scalars;
-        const double d_multi = std::abs(double(g.seen_multi) - ref.seen_multi) / surface;
-        const double d_once = std::abs(double(g.seen_once) - ref.seen_once) / surface;
-        const double d_none = std::abs(double(g.seen_none) - ref.seen_none) / surface;
-        const double d_interior = std::abs(double(g.interior) - ref.interior) / surface;
-        const double d_dof = std::abs(g.dof - ref.dof) / ref.dof;
-        const double d_sum = std::abs(g.sum_squares - ref.sum_squares) / ref.sum_squares;
-        std::printf("  %-28s gpu/ref multi %5u/%5u once %5u/%5u none %5u/%5u interior %5u/%5u"
-                    " dof %7.0f/%7.0f (%.2f%%) S %.5g/%.5g (%.2f%%)\n",
-                    what.c_str(), g.seen_multi, ref.seen_multi, g.seen_once, ref.seen_once, g.seen_none,
-                    ref.seen_none, g.interior, ref.interior, g.dof, ref.dof, 100 * d_dof, g.sum_squares,
-                    ref.sum_squares, 100 * d_sum);
-        EXPECT_GT(ref.seen_multi, 0u);
-        EXPECT_LE(d_multi, kCountTolerance);
-        EXPECT_LE(d_once, kCountTolerance);
-        EXPECT_LE(d_none, kCountTolerance);
-        EXPECT_LE(d_interior, kCountTolerance);
-        EXPECT_LE(d_dof, kDofTolerance);
-        // Plus an absolute allowance: at the truth of noise-free images S is nearly zero and
-        // the GPU's 8-bit colours (±0.5/255) add up to a quarter level's variance per dof.
-        EXPECT_LE(std::abs(g.sum_squares - ref.sum_squares),
-                  kSumSquaresTolerance * ref.sum_squares + 0.25 * ref.dof / (255.0 * 255.0));
-        worst.count = std::max({worst.count, d_multi, d_once, d_none, d_interior});
-        worst.dof = std::max(worst.dof, d_dof);
-        worst.sum_squares = std::max(worst.sum_squares, d_sum);
-      }
-    }
-  }
+  for (ViewWeights weights : {ViewWeights::Uniform, ViewWeights::Angle})
+    ExpectScalarsAgree(box.scene, Options(weights), hypotheses, pyramids, worst);
   std::printf("  worst: counts %.3f%% of surface texels, dof %.3f%%, sum_squares %.3f%%\n", 100 * worst.count,
               100 * worst.dof, 100 * worst.sum_squares);
+}
+
+// likelihood.charts "pixels": the charts differ in scale, so each texel's footprint (and with
+// it the LOD it is read at and its angle weight) must come from its own chart's texel area.
+TEST_F(SurfaceLikelihoodVsReference, ChartsSizedByThePixelsAgreeToo) {
+  const Scene scene = LoadScene(Box().scene_file, {{"likelihood.charts", "pixels"}});
+  ASSERT_EQ(scene.likelihood.charts, "pixels");
+  SurfaceLikelihoodOptions options = Options(ViewWeights::Angle);
+  // The faces the views barely see get charts a quarter as dense as the rest (AtlasFootprint.h):
+  // at 128² those are a few texels, which halve at level 1 to where rasterisation's edge rules
+  // and the reference's texel centres disagree on a share of them.
+  options.atlas = 256;
+  const SceneGeometry geometry = BuildSceneGeometry(scene, scene.InitialValues(), options.atlas);
+  double least = 1e30, most = 0.0;
+  for (const Chart& c : geometry.atlas.charts) {
+    least = std::min(least, c.texels_per_metre);
+    most = std::max(most, c.texels_per_metre);
+  }
+  EXPECT_GT(most, 1.5 * least);  // otherwise this would test nothing the test above does not
+  Worst worst;
+  ExpectScalarsAgree(scene, options, Hypotheses(), LoadReferencePyramids(scene, GpuMipCount(scene)), worst);
 }
 
 // The same with what real photographs need switched on: a per-camera colour correction

@@ -259,8 +259,6 @@ ReducedScalars ReferenceSurfaceScalars(const Scene& scene, const SceneGeometry& 
 
   const double sigma = options.model.sigma / 255.0;
   const double sigma2 = sigma * sigma;
-  const double texel_metres = std::ldexp(1.0, level) / geometry.atlas.texels_per_metre;
-  const double texel_area = texel_metres * texel_metres;  // T_l
 
   if (texels) {
     texels->side = side;
@@ -289,6 +287,8 @@ ReducedScalars ReferenceSurfaceScalars(const Scene& scene, const SceneGeometry& 
     }
     const Eigen::Vector3d n = (normal_matrix[node] * normal_node).normalized();
     if (texels) texels->chart[index] = int(v[0]->face);
+    // T_l: the world area of one level-l texel of this texel's chart.
+    const double texel_area = std::ldexp(double(v[0]->texel_area), 2 * level);
 
     bool interior = false;
     for (size_t other = 0; other < nodes && !interior; ++other) {

@@ -265,6 +265,10 @@ TEST(BadInput, VersionAndSettings) {
   EXPECT_TRUE(LoadFails(dir, scene, {"likelihood.partners", "integer"}));
   scene["likelihood"] = Json{{"partner_ranking", "closest"}};
   EXPECT_TRUE(LoadFails(dir, scene, {"likelihood.partner_ranking", "unknown ranking 'closest'"}));
+  scene["likelihood"] = Json{{"charts", "texels"}};
+  EXPECT_TRUE(LoadFails(dir, scene, {"likelihood.charts", "unknown chart sizing 'texels'", "area, pixels"}));
+  scene["likelihood"] = Json{{"charts", 2}};
+  EXPECT_TRUE(LoadFails(dir, scene, {"likelihood.charts"}));
   scene["likelihood"] = Json{{"slot_images", "each"}};
   EXPECT_TRUE(LoadFails(dir, scene, {"likelihood.slot_images", "unknown value 'each'", "per_slot"}));
   scene["likelihood"] = Json{{"sandwich_blocks", 12}};

@@ -30,7 +30,7 @@ constexpr const char* kDesignExample = R"({
      "transforms": [{"translate": [0, 0, 1]}, {"scale": [1, 1, "rh/h"]}]}
   ],
   "likelihood": {"kind": "surface", "sigma": 8.0, "weights": "angle", "atlas": 1024, "levels": 3,
-                 "sandwich_blocks": 32},
+                 "sandwich_blocks": 32, "charts": "pixels"},
   "sampler": {"iterations": 4000, "chains": 4, "batch": 16, "seed": 1}
 })";
 
@@ -64,6 +64,7 @@ TEST(Load, DesignExample) {
   EXPECT_EQ(s.cameras[0].image, (dir.path() / "house/images/c1.pgm").lexically_normal());
   EXPECT_EQ(s.likelihood.atlas, 1024);
   EXPECT_EQ(s.likelihood.sandwich_blocks, 32);
+  EXPECT_EQ(s.likelihood.charts, "pixels");
   EXPECT_EQ(s.sampler.chains, 4);
 
   // At the initial values the box is w × d × h = 0.9 × 0.9 × 0.6, yaw 10°, and the roof
@@ -95,6 +96,7 @@ TEST(Load, DefaultsForMissingSections) {
   EXPECT_EQ(s.likelihood.atlas, 0);
   EXPECT_EQ(s.likelihood.levels, 0);
   EXPECT_EQ(s.likelihood.sandwich_blocks, 0);  // "auto"
+  EXPECT_EQ(s.likelihood.charts, "area");
   const SamplerSettings d;
   EXPECT_EQ(s.sampler.iterations, d.iterations);
   EXPECT_TRUE(s.sampler.iterations_auto);
