@@ -37,7 +37,8 @@ SceneGeometry BuildSceneGeometry(const Scene& scene, const std::vector<double>& 
   if (!drawable)
     throw InputError(scene.file.string(), "nodes", "no node has a primitive: there is nothing to draw");
   // The layout is decided once, at psi_layout (usually the initial values): chart sizes
-  // follow the world extents there, and stay fixed while the sampler moves the geometry.
+  // follow the world extents there (times the faces' pixel densities under charts
+  // "pixels"), and stay fixed while the sampler moves the geometry.
   g.atlas = PackAtlas(g.meshes, scene.WorldFromNode(psi_layout), atlas_size, 2,
                       ChartDensities(scene, g.meshes, psi_layout));
 

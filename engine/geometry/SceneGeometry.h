@@ -35,7 +35,8 @@ struct SceneGeometry {
 std::vector<Mesh> BuildMeshes(const Scene& scene);
 
 // Builds meshes (primitives, glTF files), packs the atlas at Ψ = `psi_layout` (usually the
-// initial values; with the scene's likelihood.charts, AtlasFootprint.h) and flattens. Throws InputError for unreadable meshes.
+// initial values; charts sized as the scene's likelihood.charts says, AtlasFootprint.h) and
+// flattens. Throws InputError for unreadable meshes.
 SceneGeometry BuildSceneGeometry(const Scene& scene, const std::vector<double>& psi_layout,
                                  int atlas_size);
 
