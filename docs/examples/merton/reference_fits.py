@@ -93,6 +93,11 @@ def corner(fit_a, fit_b):
 def main():
     data = pathlib.Path(sys.argv[1]) if len(sys.argv) > 1 else (
         pathlib.Path(__file__).resolve().parents[3] / ".." / "shared" / "data" / "merton_college_1")
+    for name in ("points3d_zup.txt", "lines3d_zup.txt"):
+        if not (data / name).is_file():
+            print(f"reference_fits.py: {data / name}: not found (give the dataset's folder as the argument)",
+                  file=sys.stderr)
+            sys.exit(2)
     points = read_rows(data / "points3d_zup.txt")
     lines = read_rows(data / "lines3d_zup.txt")
     wall_a = [p for p in points if on_wall(p, WALL_A)]
