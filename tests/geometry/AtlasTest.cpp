@@ -90,7 +90,9 @@ TEST(Atlas, ADensityPerFaceScalesItsChart) {
   // Face 2 (+y) is as large as face 0 (-y) in the world and gets twice the texels per side.
   EXPECT_NEAR(a.charts[2].w / a.charts[0].w, 2.0, 0.1);
   // Without densities every chart has the common scale.
-  for (const Chart& c : PackAtlas(meshes, {Scale(2, 1, 1)}, 256, 2).charts) EXPECT_GT(c.texels_per_metre, 0.0);
+  const AtlasLayout uniform = PackAtlas(meshes, {Scale(2, 1, 1)}, 256, 2);
+  EXPECT_GT(uniform.texels_per_metre, 0.0);
+  for (const Chart& c : uniform.charts) EXPECT_DOUBLE_EQ(c.texels_per_metre, uniform.texels_per_metre);
   EXPECT_THROW(PackAtlas(meshes, {Scale(2, 1, 1)}, 256, 2, {1.0, 1.0}), std::invalid_argument);
   EXPECT_THROW(PackAtlas(meshes, {Scale(2, 1, 1)}, 256, 2, {1.0, 1.0, 0.0, 1.0, 1.0, 1.0}), std::invalid_argument);
 }

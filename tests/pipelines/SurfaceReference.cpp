@@ -287,8 +287,10 @@ ReducedScalars ReferenceSurfaceScalars(const Scene& scene, const SceneGeometry& 
     }
     const Eigen::Vector3d n = (normal_matrix[node] * normal_node).normalized();
     if (texels) texels->chart[index] = int(v[0]->face);
-    // T_l: the world area of one level-l texel of this texel's chart.
-    const double texel_area = std::ldexp(double(v[0]->texel_area), 2 * level);
+    // T_l: the world area of one level-l texel of this texel's chart, from the layout (not
+    // from the vertex's copy the GPU reads, so that copy is checked too).
+    const double texel_metres = std::ldexp(1.0, level) / geometry.atlas.charts.at(v[0]->face).texels_per_metre;
+    const double texel_area = texel_metres * texel_metres;
 
     bool interior = false;
     for (size_t other = 0; other < nodes && !interior; ++other) {
