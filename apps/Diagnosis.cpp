@@ -61,7 +61,7 @@ const char* ToString(Diagnosis::Verdict verdict) {
 
 Diagnosis Diagnose(const Scene& scene, const Evaluation& at_map, double sigma_255, const opt::SamplerSummary& summary,
                    const std::vector<NodeResidual>& nodes, const std::vector<Reprojection>& reprojections,
-                   const std::vector<double>& clutter_share) {
+                   const std::vector<double>& clutter_share, const FinerAtlasPolish* finer) {
   Diagnosis d;
   std::vector<std::string> failed, model, other;
   const ReducedScalars& s = at_map.scalars;
@@ -155,6 +155,12 @@ Diagnosis Diagnose(const Scene& scene, const Evaluation& at_map, double sigma_25
                            "%.3f, smallest ESS %.0f): raise ",
                            summary.iterations, summary.max_rhat, summary.min_ess) +
                     (timed ? "--time-limit (sampler.time_limit)" : "sampler.max_iterations") + " for intervals to trust");
+    Worsen(&d, Diagnosis::Verdict::Unsettled);
+  }
+  // The MAP moved far when polished at twice the atlas's side: the intervals describe a
+  // likelihood that averages away detail the photographs resolve, not the mode it found.
+  if (finer && finer->Moved()) {
+    other.push_back(FinerAtlasNote(*finer, summary));
     Worsen(&d, Diagnosis::Verdict::Unsettled);
   }
   const nlohmann::json& calibration = summary.calibration;

@@ -10,6 +10,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "apps/FinerAtlasPolish.h"
 #include "engine/scene/Scene.h"
 #include "optimiser/Sampler.h"
 #include "pipelines/model/Evaluation.h"
@@ -35,9 +36,10 @@ const char* ToString(Diagnosis::Verdict verdict);
 
 // `sigma_255`: the noise σ the run ended with; `nodes`: NodeResiduals at the MAP (level 0);
 // `reprojections`: the residuals of every photograph; `clutter_share`: per camera, the share
-// of the pixels the model covers that were masked as clutter (empty: none masked).
+// of the pixels the model covers that were masked as clutter (empty: none masked);
+// `finer`: the MAP's polish at twice the atlas's side (FinerAtlasPolish.h), or none.
 Diagnosis Diagnose(const Scene& scene, const Evaluation& at_map, double sigma_255, const opt::SamplerSummary& summary,
                    const std::vector<NodeResidual>& nodes, const std::vector<Reprojection>& reprojections,
-                   const std::vector<double>& clutter_share);
+                   const std::vector<double>& clutter_share, const FinerAtlasPolish* finer = nullptr);
 
 }  // namespace vkr::app

@@ -3,6 +3,7 @@
 #include "apps/Diagnosis.h"
 #include "apps/DistributedTarget.h"
 #include "apps/Ranks.h"
+#include "apps/FinerAtlasPolish.h"
 #include "apps/Report.h"
 #include "apps/SceneTarget.h"
 
@@ -366,6 +367,20 @@ ReconstructResult Reconstruct(const ReconstructOptions& options, vk::Device& dev
   // Outputs at the MAP, from a surface likelihood at full resolution (its composite is the
   // model's texture whichever likelihood sampled).
   likelihood.reset();
+  // The MAP climbs on at twice the atlas's side (FinerAtlasPolish.h). Not in the checkpoint
+  // either: deterministic, so a resumed finished run polishes alike. Its evaluations count
+  // as level −1 (four of level 0's) for the observer.
+  const FinerAtlasPolish finer = PolishAtFinerAtlas(
+      device, scene, options.overrides, summary, sampler->options().finer_atlas_polish, quiet, [&](size_t n) {
+        if (options.observer.evaluated) options.observer.evaluated(-1, n);
+      });
+  if (finer.ran) {
+    summary.map = finer.map;
+    for (size_t i = 0; i < summary.parameters.size(); ++i) summary.parameters[i].map = finer.map[i];
+    summary.evaluations += finer.evaluations;
+    result.map = summary.map;
+    if (options.observer.best) options.observer.best(summary.map);
+  }
   SurfaceLikelihoodOptions surface = SurfaceLikelihoodOptions::FromScene(scene);
   surface.max_batch = 1;
   surface.model.sigma = SigmaUsed(scene, summary);
@@ -401,6 +416,14 @@ ReconstructResult Reconstruct(const ReconstructOptions& options, vk::Device& dev
     }
   Evaluation at_map;
   const SurfaceDump dump = outputs.EvaluateAndDump(summary.map, &at_map);
+  if (finer.ran) {  // the adopted MAP as the run's (calibrated) likelihood scores it
+    const double kappa = summary.calibration.is_object() && summary.calibration.contains("kappa")
+                             ? summary.calibration["kappa"].get<double>()
+                             : 1.0;
+    summary.map_log_prior = opt::LogPrior(sampler->parameters(), summary.map);
+    summary.map_log_likelihood = at_map.total() / kappa;
+    summary.map_log_posterior = summary.map_log_prior + summary.map_log_likelihood;
+  }
   const Image composite = DilateAtlas(dump.composite);
   WriteExr(options.output_dir / "composite.exr", composite);
   WritePng(options.output_dir / "composite.png", composite);
@@ -415,7 +438,7 @@ ReconstructResult Reconstruct(const ReconstructOptions& options, vk::Device& dev
       WriteReprojections(options.output_dir / "reprojections", device, scene, geometry, summary.map, composite, noise);
   const Diagnosis diagnosis = Diagnose(scene, at_map, surface.model.sigma, summary,
                                        NodeResiduals(scene, geometry.atlas, dump.deviation, dump.noise), reprojections,
-                                       clutter_share);
+                                       clutter_share, &finer);
   result.notes = diagnosis.notes;
   result.diagnosis_ok = diagnosis.ok();
   result.failed = diagnosis.verdict == Diagnosis::Verdict::Failed;
@@ -426,6 +449,7 @@ ReconstructResult Reconstruct(const ReconstructOptions& options, vk::Device& dev
   map["start_search"]["adopted"] = start_adopted;
   map["polish"] = {{"method", "bobyqa"}, {"evaluations", polish.evaluations}, {"improved", polish.improved},
                    {"improvement", polish.improvement}, {"message", polish.message}};
+  map["finer_atlas_polish"] = ToJson(finer, summary);
   if (!clutter_files.empty()) map["calibration"]["clutter"]["files"] = clutter_files;
   map["settings"] = {{"scene", fs::absolute(options.scene_file).string()},
                      {"overrides", nlohmann::json::array()},

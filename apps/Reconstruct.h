@@ -17,6 +17,7 @@ namespace vkr::app {
 // rather than parsing its output. Called on rank 0 and every other rank alike.
 struct RunObserver {
   // After every scoring call of the likelihood: its level and how many hypotheses it scored.
+  // Level −1: the polish at twice the atlas's side (rank 0 only), each about four of level 0's.
   std::function<void(int level, size_t hypotheses)> evaluated;
   // The running MAP: after every sampler frame, the sampler's best hypothesis at its current
   // level (opt::Progress::best_psi); during the polish, the polish's best when it beats it.

@@ -16,24 +16,29 @@ void SetMap(const std::vector<double>& map, double log_prior, double log_likelih
 
 }  // namespace
 
-PolishSummary PolishMap(const std::vector<ParameterSpec>& parameters, Target& target, int evaluations,
-                        SamplerSummary* summary, const SearchCallback& on_evaluation) {
-  PolishSummary out;
-  if (evaluations <= 0 || summary->map.empty() || !std::isfinite(summary->map_log_posterior)) return out;
+MapSearchOptions PolishOptions(const std::vector<ParameterSpec>& parameters, const SamplerSummary& summary,
+                               int evaluations) {
   MapSearchOptions options;
   options.method = SearchMethod::Bobyqa;
   options.max_cost = evaluations;
   options.levels = 1;
-  options.start = summary->map;
-  // Convergence far below what the photographs resolve: the budget ends the polish.
+  options.start = summary.map;
   options.tolerance = 1e-9;
   for (size_t i = 0; i < parameters.size(); ++i) {
     const double width = parameters[i].Width();
-    double sd = i < summary->parameters.size() ? summary->parameters[i].sd : NAN;
-    if (!(std::isfinite(sd) && sd > 0) && i < summary->parameters.size()) sd = summary->parameters[i].laplace_sd;
+    double sd = i < summary.parameters.size() ? summary.parameters[i].sd : NAN;
+    if (!(std::isfinite(sd) && sd > 0) && i < summary.parameters.size()) sd = summary.parameters[i].laplace_sd;
     if (!(std::isfinite(sd) && sd > 0)) sd = 1e-3 * width;
     options.initial_steps.push_back(std::clamp(2.0 * sd, 1e-6 * width, 0.05 * width));
   }
+  return options;
+}
+
+PolishSummary PolishMap(const std::vector<ParameterSpec>& parameters, Target& target, int evaluations,
+                        SamplerSummary* summary, const SearchCallback& on_evaluation) {
+  PolishSummary out;
+  if (evaluations <= 0 || summary->map.empty() || !std::isfinite(summary->map_log_posterior)) return out;
+  const MapSearchOptions options = PolishOptions(parameters, *summary, evaluations);
   MapSearchSummary search;
   SearchMap(options, parameters, target, &search, on_evaluation);
   out.evaluations = search.evaluations;

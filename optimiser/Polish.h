@@ -22,9 +22,14 @@ struct PolishSummary {
   std::string message;       // MapSearchSummary's
 };
 
-// BOBYQA at level 0 from summary->map, first steps of two posterior sds per parameter
-// (the sample's, else the Laplace approximation's, within [1e-6, 0.05] of the prior width),
-// at most `evaluations` evaluations. Where it finds a higher log posterior it replaces the
+// The polish's search: BOBYQA at level 0 from summary.map, first steps of two posterior sds
+// per parameter (the sample's, else the Laplace approximation's, within [1e-6, 0.05] of the
+// prior width), at most `evaluations` evaluations, converging far below what photographs
+// resolve (the budget ends it). Also what the resolution check climbs with.
+MapSearchOptions PolishOptions(const std::vector<ParameterSpec>& parameters, const SamplerSummary& summary,
+                               int evaluations);
+
+// PolishOptions' search. Where it finds a higher log posterior it replaces the
 // summary's MAP and its log prior, likelihood, posterior and per-parameter "map", and adds
 // its evaluations to summary->evaluations. A summary without a MAP, or 0 evaluations:
 // nothing happens. Deterministic: every MPI rank that runs it runs the same search.

@@ -46,6 +46,7 @@ void ForEachField(Options& o, F&& f) {
   f("refine_difference", o.refine_difference);
   f("refine_tolerance", o.refine_tolerance);
   f("polish_evaluations", o.polish_evaluations);
+  f("finer_atlas_polish", o.finer_atlas_polish);
   f("start_search", o.start_search);
   f("seed", o.seed);
 }
@@ -107,6 +108,7 @@ bool SamplerOptions::IsValid(std::string* why) const {
   if (coarse_levels < 1) return OptionsFail(why, "coarse_levels must be ≥ 1");
   if (refine_steps < 0) return OptionsFail(why, "refine_steps must be ≥ 0");
   if (polish_evaluations < 0) return OptionsFail(why, "polish_evaluations must be ≥ 0");
+  if (finer_atlas_polish < 0) return OptionsFail(why, "finer_atlas_polish must be ≥ 0");
   if (!(start_search >= 0.0 && std::isfinite(start_search))) return OptionsFail(why, "start_search must be ≥ 0");
   if (settle_rounds < 1) return OptionsFail(why, "settle_rounds must be ≥ 1");
   if (settle_steps < 0) return OptionsFail(why, "settle_steps must be ≥ 0");

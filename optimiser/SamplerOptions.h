@@ -122,6 +122,11 @@ struct SamplerOptions {
   // model-based search still gains; one point per evaluation, so ~1 % of a run's work. Run
   // by the sampler's caller with PolishMap (Polish.h), after Run; not by the Sampler itself.
   int polish_evaluations = 80;
+  // After the polish: at most this many evaluations of BOBYQA at twice the atlas's side (0:
+  // no check), to see whether the MAP depends on the atlas's resolution (apps/
+  // FinerAtlasPolish.h; the surface likelihood only). Each costs about four of the run's.
+  // Run by the sampler's caller; not by the Sampler itself.
+  int finer_atlas_polish = 60;
   // A local search before the sampler (issue 15): BOBYQA (MapSearch.h) coarse-to-fine over
   // every level from the parameters' initial values, at most this many full-resolution-
   // equivalent evaluations (0: none). In the peers bench (bench/RESULTS.md) it came within

@@ -144,6 +144,31 @@ TEST(Diagnosis, DoubtsIntervalsWhenTheCurvatureAtTheModeIsInconsistent) {
   EXPECT_TRUE(Mentions(d, "intervals too narrow")) << (d.notes.empty() ? "" : d.notes.front());
 }
 
+TEST(Diagnosis, AMapThatMovedFarAtTheFinerAtlasIsNotOk) {
+  const Inputs in;
+  FinerAtlasPolish finer;
+  finer.ran = true;
+  finer.atlas = 512;
+  finer.map = {0.47};
+  finer.map_at_atlas = {0.50};
+  finer.shift_sd = {-1.5};  // within the chains' intervals: reported in map.json, not judged
+  finer.worst = 0;
+  const auto run = [&] {
+    return Diagnose(OneParameterScene(), in.at_map, 8.0, in.summary, in.nodes, in.reprojections, in.clutter, &finer);
+  };
+  EXPECT_TRUE(run().ok());
+  finer.shift_sd = {-3.2};
+  const Diagnosis d = run();
+  EXPECT_EQ(d.verdict, Diagnosis::Verdict::Unsettled);
+  EXPECT_TRUE(Mentions(d, "polished at a 512² atlas it moved 3.2 posterior sds (w 0.47 against 0.5 at the run's atlas)"))
+      << (d.notes.empty() ? "" : d.notes.front());
+  EXPECT_TRUE(Mentions(d, "--set likelihood.atlas=512"));
+  FinerAtlasPolish skipped;  // not run (off, or the image-space likelihood): nothing to judge
+  skipped.skipped = "the image-space likelihood has no atlas";
+  EXPECT_TRUE(Diagnose(OneParameterScene(), in.at_map, 8.0, in.summary, in.nodes, in.reprojections, in.clutter,
+                       &skipped).ok());
+}
+
 TEST(Diagnosis, AModelThatExplainsNothingFails) {
   Inputs in;
   in.at_map.scalars.sum_squares *= 5.0;  // χ²/dof 5

@@ -51,6 +51,7 @@ TEST(SamplerOptions, IsValidRejectsBadOptionsWithAReason) {
       {[](SamplerOptions& o) { o.refine_difference = 0.0; }, "refine_difference"},
       {[](SamplerOptions& o) { o.refine_tolerance = -1.0; }, "refine_tolerance"},
       {[](SamplerOptions& o) { o.polish_evaluations = -1; }, "polish_evaluations"},
+      {[](SamplerOptions& o) { o.finer_atlas_polish = -1; }, "finer_atlas_polish"},
       {[](SamplerOptions& o) { o.start_search = -1.0; }, "start_search"},
       {[](SamplerOptions& o) { o.start_search = INFINITY; }, "start_search"},
   };
