@@ -126,8 +126,7 @@ nlohmann::json ToJson(const FinerAtlasPolish& polish, const opt::SamplerSummary&
           {"max_shift_sd", polish.MaxShiftSd()},
           {"threshold_sd", kFinerAtlasShiftSd},
           {"moved", polish.Moved()},
-          {"evaluations", polish.evaluations},
-          {"seconds", polish.seconds}};
+          {"evaluations", polish.evaluations}};  // not the seconds: map.json is the same from run to run
 }
 
 std::string FinerAtlasNote(const FinerAtlasPolish& polish, const opt::SamplerSummary& summary) {
