@@ -71,11 +71,19 @@ FinerAtlasPolish PolishAtFinerAtlas(vk::Device& device, const Scene& scene, std:
   if (!quiet)
     std::cerr << "vkrecon run: polishing the MAP at a " << polish.atlas << "² atlas (at most " << evaluations
               << " evaluations)\n";
-  std::unique_ptr<Likelihood> likelihood = MakeSearchLikelihood(device, doubled, 1);
-  const NoiseCalibration calibration =
-      CalibrateNoise(*likelihood, summary.map, {}, 1.0, scene.likelihood.sigma_auto, scene.likelihood.clutter,
-                     scene.likelihood.sandwich_blocks);
-  polish.sigma = calibration.sigma;
+  // After a whole run, a doubled atlas that does not fit the device (MemoryPlan.h) or any
+  // other failure here costs the polish, not the run's outputs.
+  std::unique_ptr<Likelihood> likelihood;
+  try {
+    likelihood = MakeSearchLikelihood(device, doubled, 1);
+    polish.sigma = CalibrateNoise(*likelihood, summary.map, {}, 1.0, scene.likelihood.sigma_auto,
+                                  scene.likelihood.clutter, scene.likelihood.sandwich_blocks)
+                       .sigma;
+  } catch (const std::exception& e) {
+    polish.skipped = std::string("no likelihood at the doubled atlas: ") + e.what();
+    if (!quiet) std::cerr << "vkrecon run: warning: not polished at the finer atlas: " << polish.skipped << "\n";
+    return polish;
+  }
   double kappa = 1.0;
   if (summary.calibration.is_object() && summary.calibration.contains("kappa") && summary.calibration["kappa"].is_number())
     kappa = summary.calibration["kappa"].get<double>();
@@ -100,10 +108,11 @@ FinerAtlasPolish PolishAtFinerAtlas(vk::Device& device, const Scene& scene, std:
       polish.worst = int(i);
   }
   if (!quiet) {
-    std::fprintf(stderr, "vkrecon run: at a %d² atlas the mode lies %.2f posterior sds from the MAP", polish.atlas,
+    std::fprintf(stderr, "vkrecon run: the mode at a %d² atlas, %.2f posterior sds from the chains' MAP", polish.atlas,
                  polish.MaxShiftSd());
     if (polish.worst >= 0) std::fprintf(stderr, " (%s)", summary.parameters[size_t(polish.worst)].name.c_str());
-    std::fprintf(stderr, "; %lld evaluations, %.0f s\n", static_cast<long long>(polish.evaluations), polish.seconds);
+    std::fprintf(stderr, ", becomes the MAP; %lld evaluations, %.0f s\n", static_cast<long long>(polish.evaluations),
+                 polish.seconds);
   }
   return polish;
 }
