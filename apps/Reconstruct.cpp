@@ -2,8 +2,8 @@
 
 #include "apps/Diagnosis.h"
 #include "apps/DistributedTarget.h"
-#include "apps/Ranks.h"
 #include "apps/FinerAtlasPolish.h"
+#include "apps/Ranks.h"
 #include "apps/Report.h"
 #include "apps/SceneTarget.h"
 
@@ -417,9 +417,8 @@ ReconstructResult Reconstruct(const ReconstructOptions& options, vk::Device& dev
   Evaluation at_map;
   const SurfaceDump dump = outputs.EvaluateAndDump(summary.map, &at_map);
   if (finer.ran) {  // the adopted MAP as the run's (calibrated) likelihood scores it
-    const double kappa = summary.calibration.is_object() && summary.calibration.contains("kappa")
-                             ? summary.calibration["kappa"].get<double>()
-                             : 1.0;
+    const nlohmann::json& c = summary.calibration;
+    const double kappa = c.is_object() && c.contains("kappa") && c["kappa"].is_number() ? c["kappa"].get<double>() : 1.0;
     summary.map_log_prior = opt::LogPrior(sampler->parameters(), summary.map);
     summary.map_log_likelihood = at_map.total() / kappa;
     summary.map_log_posterior = summary.map_log_prior + summary.map_log_likelihood;

@@ -25,7 +25,8 @@ struct PolishSummary {
 // The polish's search: BOBYQA at level 0 from summary.map, first steps of two posterior sds
 // per parameter (the sample's, else the Laplace approximation's, within [1e-6, 0.05] of the
 // prior width), at most `evaluations` evaluations, converging far below what photographs
-// resolve (the budget ends it). Also what the resolution check climbs with.
+// resolve (the budget ends it). Also what the polish at the finer atlas climbs with
+// (apps/FinerAtlasPolish.h).
 MapSearchOptions PolishOptions(const std::vector<ParameterSpec>& parameters, const SamplerSummary& summary,
                                int evaluations);
 
