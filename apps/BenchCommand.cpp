@@ -33,17 +33,18 @@ fs::path FindAssets(const std::string& given) {
 
 // `--only peers` (PeersBench.h): the MAP searches of `run` and NLopt compared, a Markdown
 // table on stdout (or --json).
-int RunPeersBench(bool quick, bool json, bool quiet, const fs::path& assets, const std::string& work, int device_index) {
+int RunPeersBench(bool quick, bool json, bool quiet, const fs::path& assets, const std::string& work, bool resume,
+                  int device_index) {
   PeersOptions options = quick ? PeersOptions::Quick() : PeersOptions();
   options.assets_dir = assets;
   options.work_dir = work;
+  options.resume = resume;
   CheckPeersOptions(options);  // bad input fails before the device opens
   auto device = OpenDevice(device_index);
   const PeersProgress progress = [&](const std::string& line) {
     if (!quiet) std::cerr << "vkrecon bench peers: " << line << "\n";
   };
-  progress("on " + device->name());
-  const PeersReport report = RunPeers(options, *device, progress);
+  const PeersReport report = RunPeers(options, *device, progress);  // it says which device
   std::cout << (json ? PeersJson(report).dump(2) + "\n" : PeersTable(report)) << std::flush;
   progress("took " + std::to_string(int(report.wall_s)) + " s");
   return FinishWithDevice(*device, 0);
@@ -58,7 +59,7 @@ int RunBench(int argc, char** argv) {
       "likelihood kind, the device's own ceilings (compute copy, fill), memory and a soak. A table on "
       "stdout (or --json), progress on stderr.",
       "bench");
-  bool json = false, quick = false, quiet = false;
+  bool json = false, quick = false, quiet = false, resume = false;
   std::string only, plots, assets, work;
   int device_index = -1, soak = 0;
   app.add_flag("--json", json,
@@ -74,12 +75,16 @@ int RunBench(int argc, char** argv) {
   app.add_option("--assets", assets,
                  "folder of the bundled assets (default: VKRECON_ASSETS, ./assets, or the source tree's)");
   app.add_option("--work", work, "keep the generated scenes and images in this folder (default: a temp folder)");
+  app.add_flag("--resume", resume,
+               "with --only peers and --work: keep the (asset, seed) groups already in WORK/peers.json, measured with "
+               "the same settings on the same device, and run the rest");
   app.add_option("--soak", soak, "evaluations of the soak (default 10000; 400 with --quick)");
   app.add_option("--device", device_index, "Vulkan device index from `vkrecon devices`");
   app.add_flag("-q,--quiet", quiet, "no progress on stderr");
   if (auto status = Parse(app, argc, argv)) return *status;
 
-  if (only == "peers") return RunPeersBench(quick, json, quiet, FindAssets(assets), work, device_index);
+  if (only == "peers") return RunPeersBench(quick, json, quiet, FindAssets(assets), work, resume, device_index);
+  if (resume) throw InputError("", "--resume", "only `--only peers` goes on from its work folder; the other rows take minutes");
 
   BenchOptions options = quick ? BenchOptions::Quick() : BenchOptions();
   options.only = only;

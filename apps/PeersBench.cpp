@@ -9,6 +9,8 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <fstream>
+#include <iterator>
 #include <limits>
 #include <map>
 #include <sstream>
@@ -103,6 +105,92 @@ std::string Number(double x, int precision) {
   return buf;
 }
 
+// The fields of PeersJson that say what a row measured: a row kept by --resume was
+// measured with these. The seeds and assets may change: rows outside them are dropped.
+nlohmann::json SettingsJson(const PeersOptions& o) {
+  std::vector<std::string> methods = {"run"};
+  for (opt::SearchMethod m : o.methods) methods.push_back(opt::ToString(m));
+  nlohmann::json overrides = nlohmann::json::array();
+  for (const SceneOverride& set : o.overrides) overrides.push_back(set.path + "=" + set.value);
+  return {{"sigma", o.sigma}, {"overrides", overrides}, {"scale", o.scale},   {"budget", o.budget},
+          {"tolerance", o.tolerance}, {"methods", methods}, {"quick", o.quick}};
+}
+
+double NumberOrNaN(const nlohmann::json& j) { return j.is_null() ? kNaN : j.get<double>(); }
+
+PeersRow RowFromJson(const nlohmann::json& j) {
+  PeersRow r{j.at("asset").get<std::string>(), j.at("method").get<std::string>(), j.at("seed").get<int>()};
+  r.reached = j.at("reached").get<bool>();
+  r.evaluations_to = NumberOrNaN(j.at("evaluations_to"));
+  r.equivalents_to = NumberOrNaN(j.at("equivalents_to"));
+  r.seconds_to = NumberOrNaN(j.at("seconds_to"));
+  r.evaluations = j.at("evaluations").get<double>();
+  r.equivalents = j.at("equivalents").get<double>();
+  r.seconds = j.at("seconds").get<double>();
+  r.median_error = j.at("median_error").get<double>();
+  r.max_error = j.at("max_error").get<double>();
+  return r;
+}
+
+// What --resume keeps of work_dir/peers.json: its device and, per (asset, seed) with a row
+// for every method, those rows. Empty without --resume or before the first group ended.
+struct KeptRows {
+  fs::path file;
+  std::string device;
+  double wall_s = 0.0;
+  std::map<std::pair<std::string, int>, std::vector<PeersRow>> groups;
+};
+
+KeptRows ReadKeptRows(const PeersOptions& options) {
+  KeptRows kept;
+  if (!options.resume) return kept;
+  if (options.work_dir.empty())
+    throw InputError("", "--resume", "needs --work: the folder whose peers.json the bench goes on from");
+  kept.file = fs::absolute(options.work_dir) / "peers.json";
+  if (!fs::exists(kept.file)) return kept;  // cut short before the first group ended
+  std::ifstream in(kept.file, std::ios::binary);
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  nlohmann::json j;
+  try {
+    j = nlohmann::json::parse(text);
+  } catch (const std::exception& e) {
+    throw InputError(kept.file.string(), "", std::string("cannot resume: not JSON: ") + e.what());
+  }
+  if (!j.is_object()) throw InputError(kept.file.string(), "", "cannot resume: not a JSON object");
+  const nlohmann::json settings = SettingsJson(options);  // outlives items(): the loop holds no temporary
+  for (const auto& [key, value] : settings.items())
+    if (!j.contains(key) || j[key] != value)
+      throw InputError(kept.file.string(), key,
+                       "measured with other settings (" + (j.contains(key) ? j[key].dump() : "none") + ", now " +
+                           value.dump() + "): resume with the same options, or use another --work folder");
+  std::map<std::pair<std::string, int>, std::vector<PeersRow>> groups;
+  const nlohmann::json rows = j.value("rows", nlohmann::json::array());
+  for (size_t i = 0; i < rows.size(); ++i) {
+    try {
+      const PeersRow row = RowFromJson(rows.at(i));
+      groups[{row.asset, row.seed}].push_back(row);
+    } catch (const std::exception& e) {
+      throw InputError(kept.file.string(), "rows[" + std::to_string(i) + "]", std::string("cannot resume: ") + e.what());
+    }
+  }
+  const size_t per_group = 1 + options.methods.size();
+  for (auto& [key, group] : groups)
+    if (group.size() == per_group) kept.groups[key] = std::move(group);
+  kept.device = j.value("device", "");
+  kept.wall_s = j.value("wall_s", 0.0);
+  return kept;
+}
+
+std::string GroupLine(const std::string& asset, int seed, std::vector<PeersRow>::const_iterator begin,
+                      std::vector<PeersRow>::const_iterator end) {
+  std::ostringstream line;
+  line << asset << " seed " << seed << ":";
+  for (auto it = begin; it != end; ++it)
+    line << "  " << it->method << (it->reached ? " ✓" : " ✗") << " " << Number(it->equivalents_to, 0) << " eq, "
+         << Number(100 * it->median_error, 3) << " %";
+  return line.str();
+}
+
 }  // namespace
 
 PeersOptions PeersOptions::Quick() {
@@ -119,6 +207,7 @@ PeersOptions PeersOptions::Quick() {
 
 void CheckPeersOptions(const PeersOptions& options) {
   for (const std::string& name : options.assets) FindAsset(options.assets_dir, name);
+  ReadKeptRows(options);
 }
 
 PeersReport RunPeers(const PeersOptions& options, vk::Device& device, const PeersProgress& progress) {
@@ -130,10 +219,21 @@ PeersReport RunPeers(const PeersOptions& options, vk::Device& device, const Peer
   PeersReport report;
   report.device = device.name();
   report.options = options;
+  KeptRows kept = ReadKeptRows(options);
+  // Timings from another device would not compare.
+  if (!kept.groups.empty() && kept.device != report.device)
+    throw InputError(kept.file.string(), "device", "measured on " + kept.device + ", now " + report.device +
+                                                       ": resume on the same device, or use another --work folder");
+  if (progress) progress("on " + report.device);
   const auto start = Clock::now();
   // Seed-major: the rows kept so far cover every asset, should a long run be cut short.
   for (const int seed : options.seeds)
     for (const Asset& asset : assets) {
+      if (auto it = kept.groups.find({asset.name, seed}); it != kept.groups.end()) {
+        report.rows.insert(report.rows.end(), it->second.begin(), it->second.end());
+        if (progress) progress(GroupLine(asset.name, seed, it->second.begin(), it->second.end()) + "  (kept)");
+        continue;
+      }
       const fs::path folder = work / asset.name / ("seed" + std::to_string(seed));
       // The reference photographs, as scripts/noise_study.py makes them.
       SynthOptions synth;
@@ -195,19 +295,15 @@ PeersReport RunPeers(const PeersOptions& options, vk::Device& device, const Peer
       }
       // The rows so far, kept beside the work: an interrupted 45-minute run still leaves them.
       if (!temporary) {
-        report.wall_s = std::chrono::duration<double>(Clock::now() - start).count();
+        report.wall_s = kept.wall_s + std::chrono::duration<double>(Clock::now() - start).count();
         WriteAtomically(work / "peers.json", PeersJson(report).dump(2) + "\n");
       }
-      if (progress) {
-        std::ostringstream line;
-        line << asset.name << " seed " << seed << ":";
-        for (auto it = report.rows.end() - std::ptrdiff_t(1 + options.methods.size()); it != report.rows.end(); ++it)
-          line << "  " << it->method << (it->reached ? " ✓" : " ✗") << " " << Number(it->equivalents_to, 0) << " eq, "
-               << Number(100 * it->median_error, 3) << " %";
-        progress(line.str());
-      }
+      if (progress)
+        progress(GroupLine(asset.name, seed, report.rows.end() - std::ptrdiff_t(1 + options.methods.size()),
+                           report.rows.end()));
     }
-  report.wall_s = std::chrono::duration<double>(Clock::now() - start).count();
+  // With --resume, the wall time of the sessions together.
+  report.wall_s = kept.wall_s + std::chrono::duration<double>(Clock::now() - start).count();
   if (temporary) fs::remove_all(work);
   return report;
 }
@@ -222,13 +318,10 @@ nlohmann::json PeersJson(const PeersReport& report) {
                     {"equivalents", r.equivalents}, {"seconds", r.seconds}, {"median_error", r.median_error},
                     {"max_error", r.max_error}});
   const PeersOptions& o = report.options;
-  std::vector<std::string> methods = {"run"};
-  for (opt::SearchMethod m : o.methods) methods.push_back(opt::ToString(m));
-  nlohmann::json overrides = nlohmann::json::array();
-  for (const SceneOverride& set : o.overrides) overrides.push_back(set.path + "=" + set.value);
-  return {{"device", report.device}, {"sigma", o.sigma}, {"overrides", overrides}, {"scale", o.scale}, {"budget", o.budget},
-          {"tolerance", o.tolerance}, {"seeds", o.seeds}, {"assets", o.assets}, {"methods", methods},
-          {"quick", o.quick}, {"wall_s", report.wall_s}, {"rows", rows}};
+  nlohmann::json j = SettingsJson(o);
+  j.update({{"device", report.device}, {"seeds", o.seeds}, {"assets", o.assets}, {"wall_s", report.wall_s},
+            {"rows", rows}});
+  return j;
 }
 
 std::string PeersTable(const PeersReport& report) {

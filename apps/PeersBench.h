@@ -45,6 +45,10 @@ struct PeersOptions {
   // the bench measures `run` with it, at the budget it was built for.
   std::vector<SceneOverride> overrides = {{"sampler.iterations", "150"}, {"sampler.start_search", "100"}};
   bool quick = false;
+  // Keep the (asset, seed) groups already in work_dir/peers.json, written with the same
+  // settings, and run only the rest: a 45-minute bench cut short (lavapipe's rare crash,
+  // bench/RESULTS.md; a closed laptop) goes on where it stopped.
+  bool resume = false;
 
   // One seed, box and poster, ¼-size images, a 128² atlas, 60 iterations of `run`, a budget
   // of 60: the test's (< 2 min).
@@ -74,7 +78,8 @@ struct PeersReport {
 
 using PeersProgress = std::function<void(const std::string& line)>;
 
-// InputError for an unknown asset (no assets_dir/NAME/scene.json or truth.json); RunPeers
+// InputError for an unknown asset (no assets_dir/NAME/scene.json or truth.json), or for
+// --resume without a work folder or with a peers.json written with other settings; RunPeers
 // calls it too, the command before the device opens.
 void CheckPeersOptions(const PeersOptions& options);
 

@@ -3,7 +3,8 @@
 # 4 assets × 5 seeds at σ = 16 (~45 min on 2 cores). Keeps bench/peers.json and splices the
 # "Peers" section (table, bench/peers.png, bench/peers_notes.md) into bench/RESULTS.md,
 # leaving the throughput sections as they are. Extra arguments go to `vkrecon bench`
-# (e.g. --quick, --work DIR).
+# (e.g. --quick, --work DIR; after a crash or an interruption, the same command with
+# --work DIR --resume keeps the groups already in DIR/peers.json and runs the rest).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/build.sh vkrecon >&2

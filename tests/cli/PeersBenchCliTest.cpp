@@ -63,13 +63,59 @@ TEST(PeersBenchCli, QuickRunHasARowPerAssetAndMethodThatMakesSense) {
   }
   EXPECT_EQ(seen.size(), 2 * methods.size()) << "a row per asset and method";
   // The rows are also kept in the work folder as they come.
-  EXPECT_EQ(nlohmann::json::parse(test::ReadText(dir / "peers.json")).at("rows"), j.at("rows"));
+  const nlohmann::json kept = nlohmann::json::parse(test::ReadText(dir / "peers.json"));
+  ASSERT_EQ(kept.at("rows"), j.at("rows"));
+
+  // Cut short after box (poster's rows gone), then resumed: box's rows are kept as they were
+  // (a planted time proves they were not measured again) and poster's are measured.
+  nlohmann::json cut = kept;
+  cut["rows"] = nlohmann::json::array();
+  for (nlohmann::json row : kept.at("rows")) {
+    if (row.at("asset") != "box") continue;
+    if (row.at("method") == "run") row["seconds"] = 12345.0;
+    cut["rows"].push_back(row);
+  }
+  test::WriteText(dir / "peers.json", cut.dump(2));
+  const std::string resume = kVkrecon + " bench --only peers --quick --json --resume --assets " + Quote(kAssets) +
+                             " --work " + Quote(dir.path());
+  const auto resumed = RunCommand(resume);
+  ASSERT_EQ(resumed.exit_status, 0) << resumed.err;
+  EXPECT_NE(resumed.err.find("box seed 1:"), std::string::npos) << resumed.err;
+  EXPECT_NE(resumed.err.find("(kept)"), std::string::npos) << resumed.err;
+  const nlohmann::json again = nlohmann::json::parse(resumed.out);
+  ASSERT_EQ(again.at("rows").size(), 2 * methods.size()) << again.dump(1);
+  for (const nlohmann::json& row : again.at("rows")) {
+    const std::string who = row.at("asset").get<std::string>() + "/" + row.at("method").get<std::string>();
+    if (who == "box/run") EXPECT_EQ(row.at("seconds"), 12345.0) << "box was measured again";
+    if (row.at("asset") == "poster") EXPECT_GT(row.at("evaluations").get<double>(), 10) << who;
+  }
+
+  // Resuming rows of another device or other settings would mix what does not compare.
+  nlohmann::json other = again;
+  other["device"] = "another GPU";
+  test::WriteText(dir / "peers.json", other.dump(2));
+  test::ExpectBadInput(RunCommand(resume), {"peers.json", "device", "another GPU"});
+  other = again;
+  other["sigma"] = 8.0;
+  test::WriteText(dir / "peers.json", other.dump(2));
+  test::ExpectBadInput(RunCommand(resume), {"peers.json", "sigma", "other settings"});
 }
 
 TEST(PeersBenchCli, UnknownAssetFolderIsBadInput) {
   test::TempDir dir;
   const auto r = RunCommand(kVkrecon + " bench --only peers --quick --assets " + Quote(dir.path()));
   test::ExpectBadInput(r, {"scene.json", "unknown asset"});
+}
+
+TEST(PeersBenchCli, ResumeNeedsTheWorkFolderAndPeers) {
+  test::ExpectBadInput(RunCommand(kVkrecon + " bench --only peers --quick --resume --assets " + Quote(kAssets)),
+                       {"--resume", "--work"});
+  test::ExpectBadInput(RunCommand(kVkrecon + " bench --only house --resume"), {"--resume", "peers"});
+  test::TempDir dir;
+  test::WriteText(dir / "peers.json", "{\"rows\": [");
+  test::ExpectBadInput(RunCommand(kVkrecon + " bench --only peers --quick --resume --assets " + Quote(kAssets) +
+                                  " --work " + Quote(dir.path())),
+                       {"peers.json", "not JSON"});
 }
 
 }  // namespace
