@@ -84,11 +84,8 @@ FinerAtlasPolish PolishAtFinerAtlas(vk::Device& device, const Scene& scene, std:
     if (!quiet) std::cerr << "vkrecon run: warning: not polished at the finer atlas: " << polish.skipped << "\n";
     return polish;
   }
-  double kappa = 1.0;
-  if (summary.calibration.is_object() && summary.calibration.contains("kappa") && summary.calibration["kappa"].is_number())
-    kappa = summary.calibration["kappa"].get<double>();
   // polish.evaluations counts the search's; the calibration's few are in the seconds.
-  DoubledAtlasTarget target(*likelihood, kappa * 4.0, &polish.evaluations, on_evaluate);
+  DoubledAtlasTarget target(*likelihood, KappaFromJson(summary.calibration) * 4.0, &polish.evaluations, on_evaluate);
   const std::vector<opt::ParameterSpec> parameters = ParameterSpecs(scene);
   opt::MapSearchSummary search;
   opt::SearchMap(opt::PolishOptions(parameters, summary, evaluations), parameters, target, &search);

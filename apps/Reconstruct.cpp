@@ -417,10 +417,8 @@ ReconstructResult Reconstruct(const ReconstructOptions& options, vk::Device& dev
   Evaluation at_map;
   const SurfaceDump dump = outputs.EvaluateAndDump(summary.map, &at_map);
   if (finer.ran) {  // the adopted MAP as the run's (calibrated) likelihood scores it
-    const nlohmann::json& c = summary.calibration;
-    const double kappa = c.is_object() && c.contains("kappa") && c["kappa"].is_number() ? c["kappa"].get<double>() : 1.0;
     summary.map_log_prior = opt::LogPrior(sampler->parameters(), summary.map);
-    summary.map_log_likelihood = at_map.total() / kappa;
+    summary.map_log_likelihood = at_map.total() / KappaFromJson(summary.calibration);
     summary.map_log_posterior = summary.map_log_prior + summary.map_log_likelihood;
   }
   const Image composite = DilateAtlas(dump.composite);

@@ -26,6 +26,12 @@ nlohmann::json ToJson(const NoiseCalibration& c) {
           {"curvature_doubtful", c.CurvatureDoubtful()}};
 }
 
+double KappaFromJson(const nlohmann::json& calibration) {
+  if (!calibration.is_object()) return 1.0;
+  const auto kappa = calibration.find("kappa");
+  return kappa != calibration.end() && kappa->is_number() ? kappa->get<double>() : 1.0;
+}
+
 NoiseCalibration NoiseCalibrationFromJson(const nlohmann::json& j) {
   try {
     NoiseCalibration c;

@@ -87,6 +87,9 @@ std::optional<BlockSandwich> SandwichOverBlocks(const std::vector<std::vector<do
 
 nlohmann::json ToJson(const NoiseCalibration& calibration);
 NoiseCalibration NoiseCalibrationFromJson(const nlohmann::json& json);  // throws std::invalid_argument
+// The κ of a calibration as ToJson wrote it (a run's summary), 1 where there is none: what
+// divides the log-likelihood to score a point as that run did.
+double KappaFromJson(const nlohmann::json& calibration);
 
 // At ψ (level 0): the colour correction; σ and δ by fixed-point iteration of the two moment
 // conditions when `estimate_sigma` (left set in the likelihood), σ floored at

@@ -96,5 +96,17 @@ TEST(Sandwich, MismatchedScoresAreRefused) {
   EXPECT_FALSE(SandwichOverBlocks({std::vector<double>(64, 1.0)}, 8, {1.0}, -8).has_value());
 }
 
+// What a run's summary carries is what later steps divide by (the finer-atlas polish, the
+// adopted MAP's score); a summary without a calibration scores with κ = 1.
+TEST(Sandwich, KappaReadBackFromACalibrationsJson) {
+  NoiseCalibration c;
+  c.sigma = 6.5;
+  c.kappa = 74.25;
+  EXPECT_EQ(KappaFromJson(ToJson(c)), 74.25);
+  EXPECT_EQ(KappaFromJson(nlohmann::json()), 1.0);
+  EXPECT_EQ(KappaFromJson(nlohmann::json::object()), 1.0);
+  EXPECT_EQ(KappaFromJson({{"kappa", "auto"}}), 1.0);
+}
+
 }  // namespace
 }  // namespace vkr
