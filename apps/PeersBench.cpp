@@ -164,20 +164,29 @@ KeptRows ReadKeptRows(const PeersOptions& options) {
                        "measured with other settings (" + (j.contains(key) ? j[key].dump() : "none") + ", now " +
                            value.dump() + "): resume with the same options, or use another --work folder");
   std::map<std::pair<std::string, int>, std::vector<PeersRow>> groups;
-  const nlohmann::json rows = j.value("rows", nlohmann::json::array());
-  for (size_t i = 0; i < rows.size(); ++i) {
-    try {
+  std::string field;  // for the message, should a field have the wrong type
+  try {
+    field = "rows";
+    const nlohmann::json rows = j.value("rows", nlohmann::json::array());
+    for (size_t i = 0; i < rows.size(); ++i) {
+      field = "rows[" + std::to_string(i) + "]";
       const PeersRow row = RowFromJson(rows.at(i));
       groups[{row.asset, row.seed}].push_back(row);
-    } catch (const std::exception& e) {
-      throw InputError(kept.file.string(), "rows[" + std::to_string(i) + "]", std::string("cannot resume: ") + e.what());
     }
+    field = "device";
+    kept.device = j.value("device", "");
+    field = "wall_s";
+    kept.wall_s = j.value("wall_s", 0.0);
+  } catch (const std::exception& e) {
+    throw InputError(kept.file.string(), field, std::string("cannot resume: ") + e.what());
   }
-  const size_t per_group = 1 + options.methods.size();
-  for (auto& [key, group] : groups)
-    if (group.size() == per_group) kept.groups[key] = std::move(group);
-  kept.device = j.value("device", "");
-  kept.wall_s = j.value("wall_s", 0.0);
+  // A group is kept only whole: one row per method, in the bench's order.
+  const std::vector<std::string> methods = settings["methods"].get<std::vector<std::string>>();
+  for (auto& [key, group] : groups) {
+    std::vector<std::string> in_group;
+    for (const PeersRow& row : group) in_group.push_back(row.method);
+    if (in_group == methods) kept.groups[key] = std::move(group);
+  }
   return kept;
 }
 

@@ -47,7 +47,7 @@ struct PeersOptions {
   bool quick = false;
   // Keep the (asset, seed) groups already in work_dir/peers.json, written with the same
   // settings, and run only the rest: a 45-minute bench cut short (lavapipe's rare crash,
-  // bench/RESULTS.md; a closed laptop) goes on where it stopped.
+  // docs/HARDENING.md; a closed laptop) goes on where it stopped.
   bool resume = false;
 
   // One seed, box and poster, ¼-size images, a 128² atlas, 60 iterations of `run`, a budget

@@ -99,6 +99,10 @@ TEST(PeersBenchCli, QuickRunHasARowPerAssetAndMethodThatMakesSense) {
   other["sigma"] = 8.0;
   test::WriteText(dir / "peers.json", other.dump(2));
   test::ExpectBadInput(RunCommand(resume), {"peers.json", "sigma", "other settings"});
+  other = again;
+  other["wall_s"] = "soon";
+  test::WriteText(dir / "peers.json", other.dump(2));
+  test::ExpectBadInput(RunCommand(resume), {"peers.json", "wall_s", "cannot resume"});
 }
 
 TEST(PeersBenchCli, UnknownAssetFolderIsBadInput) {
