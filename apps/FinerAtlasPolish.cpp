@@ -37,12 +37,6 @@ class DoubledAtlasTarget : public opt::Target {
   const std::function<void(size_t)>& on_evaluate_;
 };
 
-double PosteriorSd(const opt::ParameterSummary& p) {
-  if (std::isfinite(p.sd) && p.sd > 0.0) return p.sd;
-  if (std::isfinite(p.laplace_sd) && p.laplace_sd > 0.0) return p.laplace_sd;
-  return NAN;
-}
-
 }  // namespace
 
 FinerAtlasPolish PolishAtFinerAtlas(vk::Device& device, const Scene& scene, std::vector<SceneOverride> overrides,
@@ -98,7 +92,7 @@ FinerAtlasPolish PolishAtFinerAtlas(vk::Device& device, const Scene& scene, std:
   polish.map = search.map;
   polish.map_at_atlas = summary.map;
   for (size_t i = 0; i < search.map.size(); ++i) {
-    const double sd = PosteriorSd(summary.parameters[i]);
+    const double sd = summary.parameters[i].PosteriorSd();
     polish.shift_sd.push_back((search.map[i] - summary.map[i]) / sd);
     if (std::isfinite(polish.shift_sd.back()) &&
         (polish.worst < 0 || std::abs(polish.shift_sd.back()) > std::abs(polish.shift_sd[size_t(polish.worst)])))

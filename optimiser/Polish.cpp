@@ -26,9 +26,8 @@ MapSearchOptions PolishOptions(const std::vector<ParameterSpec>& parameters, con
   options.tolerance = 1e-9;
   for (size_t i = 0; i < parameters.size(); ++i) {
     const double width = parameters[i].Width();
-    double sd = i < summary.parameters.size() ? summary.parameters[i].sd : NAN;
-    if (!(std::isfinite(sd) && sd > 0) && i < summary.parameters.size()) sd = summary.parameters[i].laplace_sd;
-    if (!(std::isfinite(sd) && sd > 0)) sd = 1e-3 * width;
+    double sd = i < summary.parameters.size() ? summary.parameters[i].PosteriorSd() : NAN;
+    if (!std::isfinite(sd)) sd = 1e-3 * width;
     options.initial_steps.push_back(std::clamp(2.0 * sd, 1e-6 * width, 0.05 * width));
   }
   return options;

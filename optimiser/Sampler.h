@@ -28,8 +28,10 @@
 // accumulators, the chain so far, the best hypothesis, the refinement); a Sampler built
 // from it continues exactly as the original would have, bit for bit.
 
+#include <cmath>
 #include <cstdint>
 #include <functional>
+#include <limits>
 #include <memory>
 #include <ostream>
 #include <string>
@@ -109,6 +111,13 @@ struct ParameterSummary {
   double rhat = 0.0;  // SplitRhat over the chains
   // sd of the Laplace approximation at the mode found by settling (NaN without it).
   double laplace_sd = 0.0;
+  // The posterior sd to measure steps and moves in: the sample's, else the Laplace
+  // approximation's; NaN when neither is a positive number.
+  double PosteriorSd() const {
+    if (std::isfinite(sd) && sd > 0.0) return sd;
+    if (std::isfinite(laplace_sd) && laplace_sd > 0.0) return laplace_sd;
+    return std::numeric_limits<double>::quiet_NaN();
+  }
 };
 
 struct ChainSummary {
