@@ -229,7 +229,9 @@ def analysis(res, by_name, rows):
                f"{num(gpu)} ms, {pct(view / gpu) if view else '?'} of it in the view pass and "
                f"{pct(comp / gpu) if comp else '?'} in the composite. Neither is near a ceiling of the device, so "
                "the remedies are in the shaders (see below), not in the hardware. The same binary reads up to "
-               "±25 % apart on this shared machine from one minute to the next (LAVAPIPE.md), so the margin "
+               "±25 % apart on this shared machine from one minute to the next (LAVAPIPE.md), and from one day "
+               "to the next by more (the noise study's `box` run at σ 16, the same binary making the same "
+               "chains: 292 CPU s on 2026-11-24, 419 on 2026-11-25, on an otherwise idle machine), so the margin "
                "matters as much as the median.")
     out.append("")
     out.append("What was done and what would speed it further:")
