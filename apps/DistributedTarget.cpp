@@ -58,6 +58,13 @@ nlohmann::json DistributedTarget::Calibrate(const std::vector<double>& psi, cons
   return root;
 }
 
+std::vector<double> DistributedTarget::ScoreModes(const std::vector<std::vector<double>>& modes) {
+  std::vector<double> scores = local_.ScoreModes(modes);
+  if (ranks_.distributed())
+    ranks_.Broadcast(reinterpret_cast<unsigned char*>(scores.data()), int(scores.size() * sizeof(double)));
+  return scores;
+}
+
 nlohmann::json ExchangeCost(const ExchangeTimes& times, const Ranks& ranks, int batch) {
   const size_t calls = times.evaluate.size();
   std::vector<double> mine = times.evaluate;

@@ -48,6 +48,9 @@ class DistributedTarget : public opt::Target {
   // a warning: its clutter masks are then read from the files rank 0 wrote into OUT.
   nlohmann::json Calibrate(const std::vector<double>& psi, const std::vector<double>& covariance) override;
   void RestoreCalibration(const nlohmann::json& calibration) override { local_.RestoreCalibration(calibration); }
+  // Every rank scores the modes on its own device (the same computation, which leaves each
+  // rank's likelihood as it was); rank 0's values, sent bit for bit, decide on every rank.
+  std::vector<double> ScoreModes(const std::vector<std::vector<double>>& modes) override;
 
   ExchangeTimes& times() { return times_; }
 

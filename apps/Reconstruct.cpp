@@ -309,15 +309,14 @@ ReconstructResult Reconstruct(const ReconstructOptions& options, vk::Device& dev
   opt::Run(*sampler, &summary, callbacks);
   bar.Finish();
   summary.evaluations += start.evaluations;  // every evaluation the run made, the local search's too
-  // The local search's mode against the chains' MAP, as the calibrated target scores both.
-  bool start_adopted = false;
-  double start_at_end = -INFINITY;
+  // The local search's mode against the chains' MAP, each scored with the colour correction
+  // and clutter masks a calibration at it would find (Target::ScoreModes).
+  opt::ModeComparison start_compared;
   if (summary.termination == opt::Termination::Completed && !start.map.empty()) {
-    const double before = summary.map_log_posterior;
-    start_at_end = opt::AdoptIfHigher(sampler->parameters(), target, start.map, &summary, &start_adopted);
-    if (start_adopted && options.observer.best) options.observer.best(summary.map);
-    if (start_adopted && !quiet)
-      std::cerr << "vkrecon run: the local search's mode scores " << start_at_end - before
+    start_compared = opt::AdoptIfHigher(sampler->parameters(), target, start.map, &summary);
+    if (start_compared.adopted && options.observer.best) options.observer.best(summary.map);
+    if (start_compared.adopted && !quiet)
+      std::cerr << "vkrecon run: the local search's mode scores " << start_compared.candidate - start_compared.chains
                 << " nats above the chains' MAP: it becomes the MAP\n";
   }
   // The MAP polished by BOBYQA (optimiser/Polish.h): every rank runs the same search, as it
@@ -442,8 +441,11 @@ ReconstructResult Reconstruct(const ReconstructOptions& options, vk::Device& dev
 
   nlohmann::json map = opt::MapJson(summary);
   map["start_search"] = StartJson(start);
-  map["start_search"]["log_posterior_at_end"] = std::isfinite(start_at_end) ? nlohmann::json(start_at_end) : nlohmann::json();
-  map["start_search"]["adopted"] = start_adopted;
+  auto finite = [](double x) { return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(); };
+  // Both as they were compared: each with the nuisances fitted at it (ScoreModes).
+  map["start_search"]["log_posterior_at_end"] = finite(start_compared.candidate);
+  map["start_search"]["chains_log_posterior_at_end"] = finite(start_compared.chains);
+  map["start_search"]["adopted"] = start_compared.adopted;
   map["polish"] = {{"method", "bobyqa"}, {"evaluations", polish.evaluations}, {"improved", polish.improved},
                    {"improvement", polish.improvement}, {"message", polish.message}};
   map["finer_atlas_polish"] = ToJson(finer, summary);

@@ -54,6 +54,10 @@ class LikelihoodTarget : public opt::Target {
   std::vector<double> Evaluate(const std::vector<std::vector<double>>& batch) override;
   nlohmann::json Calibrate(const std::vector<double>& psi, const std::vector<double>& covariance) override;
   void RestoreCalibration(const nlohmann::json& calibration) override;
+  // Once calibrated: each mode with its own colour correction, over the pixels that are not
+  // clutter to every mode (those each mode's own calibration would mask, intersected), with
+  // the calibration's σ, δ and κ; then the calibration is put back as it was.
+  std::vector<double> ScoreModes(const std::vector<std::vector<double>>& modes) override;
 
  private:
   // Keeps `mask` for checkpoints; its file name relative to the output folder.
@@ -66,6 +70,7 @@ class LikelihoodTarget : public opt::Target {
   EvaluationHook on_evaluate_;
   int level_ = 0;
   NoiseCalibration calibration_;  // κ = 1 until calibrated
+  bool calibrated_ = false;
 };
 
 // The scene file with its overrides and "auto" likelihood settings resolved (map.json reports

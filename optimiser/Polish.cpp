@@ -63,22 +63,25 @@ MapSearchSummary SearchStart(const std::vector<ParameterSpec>& parameters, Targe
   return search;
 }
 
-double AdoptIfHigher(const std::vector<ParameterSpec>& parameters, Target& target,
-                     const std::vector<double>& candidate, SamplerSummary* summary, bool* adopted) {
-  *adopted = false;
-  if (candidate.size() != parameters.size()) return -INFINITY;
+ModeComparison AdoptIfHigher(const std::vector<ParameterSpec>& parameters, Target& target,
+                             const std::vector<double>& candidate, SamplerSummary* summary) {
+  ModeComparison c;
+  if (candidate.size() != parameters.size() || summary->map.size() != parameters.size()) return c;
   const double log_prior = LogPrior(parameters, candidate);
-  if (!std::isfinite(log_prior)) return -INFINITY;
+  if (!std::isfinite(log_prior)) return c;
+  const std::vector<double> scores = target.ScoreModes({summary->map, candidate});
+  summary->evaluations += 2;
+  c.chains = LogPrior(parameters, summary->map) + scores.at(0);
+  c.candidate = log_prior + scores.at(1);
+  if (!std::isfinite(c.candidate) || !(c.candidate > c.chains)) return c;
   target.SetLevel(0);
   const double log_likelihood = target.Evaluate({candidate}).at(0);
   summary->evaluations += 1;
-  const double log_posterior = log_prior + log_likelihood;
-  if (!std::isfinite(log_posterior)) return -INFINITY;
-  if (summary->map.empty() || !(log_posterior > summary->map_log_posterior)) return log_posterior;
+  if (!std::isfinite(log_likelihood)) return c;
   SetMap(candidate, log_prior, log_likelihood, summary);
   summary->map_from_search = true;
-  *adopted = true;
-  return log_posterior;
+  c.adopted = true;
+  return c;
 }
 
 }  // namespace vkr::opt

@@ -4,6 +4,7 @@
 // prior width from the mode, where a quadratic-model search from it converges in a few dozen
 // evaluations. Used by `vkrecon run` after opt::Run (SamplerOptions::polish_evaluations).
 
+#include <cmath>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -43,11 +44,22 @@ PolishSummary PolishMap(const std::vector<ParameterSpec>& parameters, Target& ta
 MapSearchSummary SearchStart(const std::vector<ParameterSpec>& parameters, Target& target, double cost,
                              const SearchCallback& on_evaluation = {});
 
-// After the sampler: scores `candidate` at level 0 as the target scores now (calibrated, as
-// the sampler's MAP was) and makes it summary's MAP where its log posterior is higher (the
-// per-parameter summaries other than "map" stay the chains'). Returns that log posterior
-// (−∞ where it cannot be scored) and sets *adopted.
-double AdoptIfHigher(const std::vector<ParameterSpec>& parameters, Target& target,
-                     const std::vector<double>& candidate, SamplerSummary* summary, bool* adopted);
+// The chains' MAP against another mode (the local search's), as AdoptIfHigher compared them:
+// log posteriors from Target::ScoreModes (−∞ where one cannot be scored).
+struct ModeComparison {
+  double chains = -INFINITY;
+  double candidate = -INFINITY;
+  bool adopted = false;
+};
+
+// After the sampler: scores the summary's MAP and `candidate` with Target::ScoreModes (each
+// with the nuisances a calibration at it would fit: masks found at the chains' mode would
+// otherwise protect it) and makes `candidate` summary's MAP where its log posterior is higher.
+// The adopted MAP's log likelihood is then the target's own (calibrated as the sampler's MAP
+// was), so that what follows compares with it; the per-parameter summaries other than "map"
+// stay the chains'. A candidate outside the prior or of the wrong length, or a summary
+// without a MAP, is not scored.
+ModeComparison AdoptIfHigher(const std::vector<ParameterSpec>& parameters, Target& target,
+                             const std::vector<double>& candidate, SamplerSummary* summary);
 
 }  // namespace vkr::opt

@@ -133,12 +133,15 @@ struct SamplerOptions {
   // 1 % of the prior width of the truth in 6–61 equivalents where the sampler took 144–2,529,
   // but from the centre it failed on 7 of 20 searches: it stops at the first local mode it
   // climbs. So it does not steer the sampler: its mode is scored
-  // again after the run, as the calibrated target scores, and becomes the MAP (then
-  // polished) only where it scores higher than the sampler's. Run by the sampler's caller
+  // again after the run beside the sampler's MAP, each with the nuisances a calibration at
+  // it would fit (Target::ScoreModes), and becomes the MAP (then polished) only where it
+  // scores higher than the sampler's. Run by the sampler's caller
   // with SearchStart and AdoptIfHigher (Polish.h); not by the Sampler itself.
   // Off by default: on house_annex (lit, exposure ±30 %, an annex the scene leaves out) its
   // mode scored higher than the chains' under the calibrated likelihood and was adopted, and
-  // the MAP's median error went from 1.59 % to 2.86 % of the prior width. Where the model
+  // the MAP's median error went from 1.59 % to 2.86 % of the prior width (compared as
+  // ScoreModes compares them now, it was not adopted there on noise seed 1: one seed, not
+  // enough to change the default). Where the model
   // is wrong, a higher posterior is not a better answer, and a mode the chains did not
   // explore has no intervals of its own (bench/RESULTS.md, "Peers", measures it with 100).
   double start_search = 0.0;

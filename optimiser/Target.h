@@ -42,6 +42,18 @@ class Target {
     return nullptr;
   }
   virtual void RestoreCalibration(const nlohmann::json& calibration) { (void)calibration; }
+
+  // The log-likelihoods of competing modes (the chains' MAP, a local search's mode) at level
+  // 0, scored so that no mode is favoured by where the calibration was made: a target whose
+  // calibration fits nuisances at one mode (a colour correction, masks over what that mode
+  // fails to explain) refits them for each mode here and leaves Evaluate() as it was. The
+  // values compare with one another, not with Evaluate()'s. By default: Evaluate() at level 0.
+  virtual std::vector<double> ScoreModes(const std::vector<std::vector<double>>& modes) {
+    SetLevel(0);
+    std::vector<double> scores;
+    for (const std::vector<double>& psi : modes) scores.push_back(Evaluate({psi}).at(0));
+    return scores;
+  }
 };
 
 // A target from a plain function of (Ψ, level), evaluated one hypothesis at a time.

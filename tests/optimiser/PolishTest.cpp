@@ -119,32 +119,74 @@ TEST(StartSearch, ItsModeReplacesTheChainsMapOnlyWhereItScoresHigher) {
     return s;
   };
   RecordingTarget target(TwoModes, 16, 2, parameters);
-  target.SetLevel(1);  // where the sampler might have left it: the candidate is scored at level 0
-  bool adopted = true;
+  target.SetLevel(1);  // where the sampler might have left it: both modes are scored at level 0
   // The chains found the higher mode: the start's lower one is scored and left out.
   SamplerSummary high = summary_at({0.8, 0.8});
-  const double at_start = AdoptIfHigher(parameters, target, {0.1, -0.1}, &high, &adopted);
-  EXPECT_FALSE(adopted);
+  const ModeComparison kept_chains = AdoptIfHigher(parameters, target, {0.1, -0.1}, &high);
+  EXPECT_FALSE(kept_chains.adopted);
   EXPECT_FALSE(high.map_from_search);
   EXPECT_EQ(high.map, (std::vector<double>{0.8, 0.8}));
-  EXPECT_DOUBLE_EQ(at_start, LogPrior(parameters, {0.1, -0.1}) + TwoModes({0.1, -0.1}, 0));
+  EXPECT_DOUBLE_EQ(kept_chains.candidate, LogPrior(parameters, {0.1, -0.1}) + TwoModes({0.1, -0.1}, 0));
+  EXPECT_DOUBLE_EQ(kept_chains.chains, high.map_log_posterior);
   EXPECT_EQ(target.level_history.back(), 0);
   // The chains stayed on a worse point: the start's mode becomes the MAP, flagged.
   SamplerSummary low = summary_at({0.3, 0.1});
   low.evaluations = 10;
-  AdoptIfHigher(parameters, target, {0.1, -0.1}, &low, &adopted);
-  EXPECT_TRUE(adopted);
+  EXPECT_TRUE(AdoptIfHigher(parameters, target, {0.1, -0.1}, &low).adopted);
   EXPECT_TRUE(low.map_from_search);
   EXPECT_EQ(low.map, (std::vector<double>{0.1, -0.1}));
   EXPECT_DOUBLE_EQ(low.parameters[1].map, -0.1);
   EXPECT_DOUBLE_EQ(low.map_log_posterior, low.map_log_prior + low.map_log_likelihood);
-  EXPECT_EQ(low.evaluations, 11);
+  EXPECT_EQ(low.evaluations, 13);  // both modes compared, then the adopted one as the target scores it
   // Outside the prior, or of the wrong length: never scored, never adopted.
   SamplerSummary kept = summary_at({0.3, 0.1});
-  EXPECT_EQ(AdoptIfHigher(parameters, target, {1.5, 0.0}, &kept, &adopted), -INFINITY);
-  EXPECT_EQ(AdoptIfHigher(parameters, target, {0.1}, &kept, &adopted), -INFINITY);
-  EXPECT_FALSE(adopted);
+  EXPECT_EQ(AdoptIfHigher(parameters, target, {1.5, 0.0}, &kept).candidate, -INFINITY);
+  EXPECT_EQ(AdoptIfHigher(parameters, target, {0.1}, &kept).candidate, -INFINITY);
+  EXPECT_FALSE(AdoptIfHigher(parameters, target, {0.1}, &kept).adopted);
   EXPECT_EQ(kept.map, (std::vector<double>{0.3, 0.1}));
+}
+
+// A target whose calibration favours the mode it was made at (as clutter masks found there
+// do): Evaluate() prefers the chains' MAP, ScoreModes(), which refits per mode, the other.
+// The decision follows ScoreModes(); the adopted MAP's log likelihood is Evaluate()'s.
+class FavouringTarget : public Target {
+ public:
+  explicit FavouringTarget(std::vector<double> favoured) : favoured_(std::move(favoured)) {}
+  int max_batch() const override { return 4; }
+  std::vector<double> Evaluate(const std::vector<std::vector<double>>& batch) override {
+    std::vector<double> out;
+    for (const auto& psi : batch) out.push_back(psi == favoured_ ? 0.0 : TwoModes(psi, 0) - 6.0);
+    return out;
+  }
+  std::vector<double> ScoreModes(const std::vector<std::vector<double>>& modes) override {
+    ++score_calls;
+    std::vector<double> out;
+    for (const auto& psi : modes) out.push_back(TwoModes(psi, 0));
+    return out;
+  }
+  int score_calls = 0;
+
+ private:
+  std::vector<double> favoured_;
+};
+
+TEST(StartSearch, TheModesAreComparedAsScoreModesScoresThemNotUnderTheChainsCalibration) {
+  const std::vector<ParameterSpec> parameters = {Uniform("a", -1, 1), Uniform("b", -1, 1)};
+  const std::vector<double> chains = {0.3, 0.1}, search = {0.8, 0.8};  // TwoModes is higher at 0.8, 0.8
+  FavouringTarget target(chains);
+  SamplerSummary summary;
+  summary.map = chains;
+  summary.map_log_prior = LogPrior(parameters, chains);
+  summary.map_log_likelihood = target.Evaluate({chains})[0];
+  summary.map_log_posterior = summary.map_log_prior + summary.map_log_likelihood;
+  for (const ParameterSpec& p : parameters) summary.parameters.push_back(ParameterSummary{p.name});
+  ASSERT_GT(target.Evaluate({chains})[0], target.Evaluate({search})[0]);  // the trap
+  const ModeComparison c = AdoptIfHigher(parameters, target, search, &summary);
+  EXPECT_EQ(target.score_calls, 1);
+  EXPECT_TRUE(c.adopted);
+  EXPECT_DOUBLE_EQ(c.candidate - c.chains, TwoModes(search, 0) - TwoModes(chains, 0));
+  EXPECT_EQ(summary.map, search);
+  EXPECT_DOUBLE_EQ(summary.map_log_likelihood, target.Evaluate({search})[0]);
 }
 
 }  // namespace
