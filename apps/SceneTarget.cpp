@@ -110,18 +110,20 @@ std::vector<double> LikelihoodTarget::ScoreModes(const std::vector<std::vector<d
   // too low and masked the column's top; under those masks their mode outscored the local
   // search's, which was right). What every mode calls clutter is clutter whichever is right.
   if (mask_clutter_) {
-    std::vector<Image> shared;  // rgb 1 = compare, 0 = clutter to every mode
-    for (const std::vector<double>& psi : modes) {
+    std::vector<Image> shared;  // rgb 1 = compare, 0 = clutter to every mode; none: no clutter
+    for (size_t m = 0; m < modes.size(); ++m) {
       likelihood_.ClearClutterMasks();
-      likelihood_.CalibratePhotometric(psi);
-      const ClutterMasks found = likelihood_.MaskClutter(psi);
-      if (shared.empty()) {
+      likelihood_.CalibratePhotometric(modes[m]);
+      const ClutterMasks found = likelihood_.MaskClutter(modes[m]);
+      if (m == 0) {
         shared = found.masks;
-        continue;
+      } else if (found.masks.size() != shared.size()) {
+        shared.clear();  // a mode without masks: nothing is clutter to every mode
+      } else {
+        for (size_t i = 0; i < shared.size(); ++i)
+          for (size_t k = 0; k < shared[i].rgba.size() && k < found.masks[i].rgba.size(); ++k)
+            shared[i].rgba[k] = std::max(shared[i].rgba[k], found.masks[i].rgba[k]);
       }
-      for (size_t i = 0; i < shared.size() && i < found.masks.size(); ++i)
-        for (size_t k = 0; k < shared[i].rgba.size() && k < found.masks[i].rgba.size(); ++k)
-          shared[i].rgba[k] = std::max(shared[i].rgba[k], found.masks[i].rgba[k]);
     }
     if (shared.empty())
       likelihood_.ClearClutterMasks();
