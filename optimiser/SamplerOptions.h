@@ -140,8 +140,8 @@ struct SamplerOptions {
   // Off by default: on house_annex (lit, exposure ±30 %, an annex the scene leaves out) its
   // mode scored higher than the chains' under the calibrated likelihood and was adopted, and
   // the MAP's median error went from 1.59 % to 2.86 % of the prior width (compared as
-  // ScoreModes compares them now, it was not adopted there on noise seed 1: one seed, not
-  // enough to change the default). Where the model
+  // ScoreModes compares them now, it was not adopted there on noise seeds 1–3; a default
+  // change wants the noise study rerun). Where the model
   // is wrong, a higher posterior is not a better answer, and a mode the chains did not
   // explore has no intervals of its own (bench/RESULTS.md, "Peers", measures it with 100).
   double start_search = 0.0;
