@@ -39,8 +39,8 @@ TEST_F(ScoreModesTest, MasksAndColoursFittedAtAWrongModeNoLongerProtectIt) {
   LikelihoodTarget target(*likelihood, scene, true, true, dir / "run", true);
 
   const std::vector<double> truth = scene.ValuesFromFile(kPoster / "truth.json");
-  std::vector<double> short_column = truth;  // the chains' mode of that run (x, y, diameter, height)
-  short_column = {-0.051884, 0.101007, 0.498159, 1.048527};
+  // The chains' mode of that run (x, y, diameter, height).
+  const std::vector<double> short_column = {-0.051884, 0.101007, 0.498159, 1.048527};
   ASSERT_EQ(scene.ParameterIndex("height"), 3);
 
   const nlohmann::json calibration = target.Calibrate(short_column, {});
