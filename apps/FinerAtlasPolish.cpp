@@ -1,9 +1,11 @@
 #include "apps/FinerAtlasPolish.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <iostream>
+#include <limits>
 
 #include "apps/SceneTarget.h"
 #include "optimiser/Polish.h"
@@ -108,6 +110,24 @@ FinerAtlasPolish PolishAtFinerAtlas(vk::Device& device, const Scene& scene, std:
   return polish;
 }
 
+void AdoptPolishedMap(const FinerAtlasPolish& polish, const Scene& scene, opt::SamplerSummary* summary) {
+  if (!polish.ran || polish.map.size() != summary->parameters.size()) return;
+  summary->map = polish.map;
+  for (size_t i = 0; i < summary->parameters.size(); ++i) {
+    opt::ParameterSummary& p = summary->parameters[i];
+    const double shift = polish.map[i] - polish.map_at_atlas[i];
+    double lo = -std::numeric_limits<double>::infinity(), hi = std::numeric_limits<double>::infinity();
+    if (i < scene.parameters.size()) {  // the support: a uniform prior's and the hard bounds
+      const Parameter& parameter = scene.parameters[i];
+      if (parameter.prior.kind == Prior::Kind::Uniform) lo = parameter.prior.a, hi = parameter.prior.b;
+      if (parameter.bounds) lo = std::max(lo, parameter.bounds->first), hi = std::min(hi, parameter.bounds->second);
+    }
+    p.map = polish.map[i];
+    p.interval_shift = shift;
+    for (double* v : {&p.mean, &p.q025, &p.q975}) *v = std::clamp(*v + shift, lo, hi);
+  }
+}
+
 nlohmann::json ToJson(const FinerAtlasPolish& polish, const opt::SamplerSummary& summary) {
   if (!polish.ran) return {{"ran", false}, {"skipped", polish.skipped}};
   nlohmann::json map = nlohmann::json::object(), before = nlohmann::json::object(), shift = nlohmann::json::object();
@@ -135,8 +155,8 @@ std::string FinerAtlasNote(const FinerAtlasPolish& polish, const opt::SamplerSum
   char buf[512];
   std::snprintf(buf, sizeof buf,
                 "the MAP depends on the atlas's resolution: polished at a %d² atlas it moved %.1f posterior sds "
-                "(%s %.4g against %.4g at the run's atlas), so the intervals, sampled at the run's atlas, do not "
-                "describe it; run again with --set likelihood.atlas=%d (docs/LIKELIHOOD.md, \"The finer atlas\")",
+                "(%s %.4g against %.4g at the run's atlas), so the intervals, sampled at the run's atlas and moved "
+                "with the MAP, may not describe the likelihood there; run again with --set likelihood.atlas=%d (docs/LIKELIHOOD.md, \"The finer atlas\")",
                 polish.atlas, polish.MaxShiftSd(), summary.parameters[w].name.c_str(), polish.map[w],
                 polish.map_at_atlas[w], polish.atlas);
   return buf;

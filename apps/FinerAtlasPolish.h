@@ -13,10 +13,10 @@
 //
 // So after the polish `vkrecon run` builds the same likelihood at twice the atlas's side,
 // calibrates its noise at the MAP (σ, colour correction and clutter masks, as a run at that
-// atlas would; not κ), climbs from the MAP with BOBYQA, and that mode becomes the MAP. How far
-// it moved, in the chains' posterior sds, is reported: beyond kFinerAtlasShiftSd the
-// chains' intervals describe the coarser likelihood rather than this mode, and the diagnosis
-// says "unsettled".
+// atlas would; not κ), climbs from the MAP with BOBYQA, and that mode becomes the MAP; the
+// posterior summaries move with it (AdoptPolishedMap). How far it moved, in the chains'
+// posterior sds, is reported: beyond kFinerAtlasShiftSd the chains' intervals, even moved,
+// describe the coarser likelihood rather than this mode, and the diagnosis says "unsettled".
 
 #include <cmath>
 #include <cstdint>
@@ -65,6 +65,15 @@ struct FinerAtlasPolish {
 FinerAtlasPolish PolishAtFinerAtlas(vk::Device& device, const Scene& scene, std::vector<SceneOverride> overrides,
                                     const opt::SamplerSummary& summary, int evaluations, bool quiet,
                                     const std::function<void(size_t)>& on_evaluate = {});
+
+// Makes the polished mode the run's MAP and moves each parameter's mean and 95 % interval by
+// the MAP's move (ParameterSummary::interval_shift), within a uniform prior's support. The
+// chains sampled the run's atlas, whose mode the atlas's averaging puts off the finer one's;
+// their spread is the noise's, which the finer atlas keeps (κ scaled with the texels). So the
+// posterior at the finer atlas is taken as theirs, moved: without it the MAP could lie
+// outside its own interval (house_annex, stairs at σ 32: docs/LIKELIHOOD.md, "The finer
+// atlas"). Nothing when the polish did not run.
+void AdoptPolishedMap(const FinerAtlasPolish& polish, const Scene& scene, opt::SamplerSummary* summary);
 
 nlohmann::json ToJson(const FinerAtlasPolish& polish, const opt::SamplerSummary& summary);
 

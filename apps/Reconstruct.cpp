@@ -374,8 +374,7 @@ ReconstructResult Reconstruct(const ReconstructOptions& options, vk::Device& dev
         if (options.observer.evaluated) options.observer.evaluated(-1, n);
       });
   if (finer.ran) {
-    summary.map = finer.map;
-    for (size_t i = 0; i < summary.parameters.size(); ++i) summary.parameters[i].map = finer.map[i];
+    AdoptPolishedMap(finer, scene, &summary);
     summary.evaluations += finer.evaluations;
     result.map = summary.map;
     if (options.observer.best) options.observer.best(summary.map);

@@ -98,7 +98,8 @@ std::string ParameterTable(const json& map, const std::vector<std::string>& name
     const json& p = map["parameters"][name];
     if (!p.is_object()) continue;
     json entry = {{"name", name}, {"map", p.value("map", json())}, {"q025", p.value("q025", json())},
-                  {"q975", p.value("q975", json())}, {"prior", nullptr}, {"truth", nullptr}};
+                  {"q975", p.value("q975", json())}, {"shift", p.value("interval_shift", json(0.0))},
+                  {"prior", nullptr}, {"truth", nullptr}};
     std::string prior = "–";
     const int index = scene ? scene->ParameterIndex(name) : -1;
     if (index >= 0) {

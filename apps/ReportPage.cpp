@@ -202,7 +202,10 @@ const char* PageScript() {
     traces.push(vertical(burn, lo, hi, '#888', 'burn-in', [4, 4]));
     lineChart(trace, traces, name + ': trace', {}, 'iteration');
 
-    var d = draws(p);
+    // The draws as map.json's interval describes them: moved with a MAP polished beyond the
+    // chains' likelihood (interval_shift; the trace shows them as sampled).
+    var shift = typeof info.shift === 'number' ? info.shift : 0;
+    var d = draws(p).map(function (v) { return v + shift; });
     var dlo = Math.min.apply(null, d), dhi = Math.max.apply(null, d);
     [info.map, info.truth, info.q025, info.q975].forEach(function (v) {
       if (typeof v === 'number') { dlo = Math.min(dlo, v); dhi = Math.max(dhi, v); }
@@ -220,7 +223,7 @@ const char* PageScript() {
       histogram.push({x: dlo + b * width, y: density});
     }
     histogram.push({x: dhi, y: histogram[bins - 1].y});
-    var sets = [{label: 'posterior draws', data: histogram, stepped: 'before', borderColor: colours[0],
+    var sets = [{label: shift ? 'posterior draws, moved with the MAP' : 'posterior draws', data: histogram, stepped: 'before', borderColor: colours[0],
                  backgroundColor: 'rgba(31,119,180,0.25)', fill: 'origin'}];
     if (info.prior) {
       var prior = [];

@@ -105,8 +105,13 @@ struct Progress {
 struct ParameterSummary {
   std::string name;
   double map = 0.0;  // at the maximum a posteriori hypothesis
-  // Over the post-burn-in states of the coldest replicas, all chains pooled.
+  // Over the post-burn-in states of the coldest replicas, all chains pooled; mean and
+  // quantiles then moved by interval_shift.
   double mean = 0.0, sd = 0.0, q025 = 0.0, q975 = 0.0;
+  // How far mean and quantiles were moved after sampling, with a MAP polished beyond the
+  // chains' likelihood (apps/FinerAtlasPolish.h); 0 when not. chain.csv keeps the draws as
+  // sampled.
+  double interval_shift = 0.0;
   double ess = 0.0;   // EffectiveSampleSize (Statistics.h)
   double rhat = 0.0;  // SplitRhat over the chains
   // sd of the Laplace approximation at the mode found by settling (NaN without it).

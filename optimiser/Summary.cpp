@@ -200,7 +200,8 @@ nlohmann::json MapJson(const SamplerSummary& s) {
     parameters[p.name] = {{"map", Nullable(p.map)}, {"mean", Nullable(p.mean)},
                           {"sd", Nullable(p.sd)},   {"q025", Nullable(p.q025)},
                           {"q975", Nullable(p.q975)}, {"ess", Nullable(p.ess)},
-                          {"rhat", Nullable(p.rhat)}, {"laplace_sd", Nullable(p.laplace_sd)}};
+                          {"rhat", Nullable(p.rhat)}, {"laplace_sd", Nullable(p.laplace_sd)},
+                          {"interval_shift", Nullable(p.interval_shift)}};
   nlohmann::json chains = nlohmann::json::array();
   for (const ChainSummary& c : s.chains) {
     nlohmann::json replica = nlohmann::json::array(), swap = nlohmann::json::array();
