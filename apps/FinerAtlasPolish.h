@@ -67,12 +67,12 @@ FinerAtlasPolish PolishAtFinerAtlas(vk::Device& device, const Scene& scene, std:
                                     const std::function<void(size_t)>& on_evaluate = {});
 
 // Makes the polished mode the run's MAP and moves each parameter's mean and 95 % interval by
-// the MAP's move (ParameterSummary::interval_shift), within a uniform prior's support. The
-// chains sampled the run's atlas, whose mode the atlas's averaging puts off the finer one's;
-// their spread is the noise's, which the finer atlas keeps (κ scaled with the texels). So the
-// posterior at the finer atlas is taken as theirs, moved: without it the MAP could lie
-// outside its own interval (house_annex, stairs at σ 32: docs/LIKELIHOOD.md, "The finer
-// atlas"). Nothing when the polish did not run.
+// the MAP's move (ParameterSummary::interval_shift), within the prior's support and the
+// parameter's bounds. The chains sampled the run's atlas, whose mode the atlas's averaging
+// puts off the finer one's; their spread is the noise's, which the finer atlas keeps (κ
+// scaled with the texels). So the posterior at the finer atlas is taken as theirs, moved:
+// without it the MAP could lie outside its own interval (house_annex, stairs at σ 32:
+// docs/LIKELIHOOD.md, "The finer atlas"). Nothing when the polish did not run.
 void AdoptPolishedMap(const FinerAtlasPolish& polish, const Scene& scene, opt::SamplerSummary* summary);
 
 nlohmann::json ToJson(const FinerAtlasPolish& polish, const opt::SamplerSummary& summary);

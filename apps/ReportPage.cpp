@@ -223,7 +223,8 @@ const char* PageScript() {
       histogram.push({x: dlo + b * width, y: density});
     }
     histogram.push({x: dhi, y: histogram[bins - 1].y});
-    var sets = [{label: shift ? 'posterior draws, moved with the MAP' : 'posterior draws', data: histogram, stepped: 'before', borderColor: colours[0],
+    var sets = [{label: shift ? 'posterior draws, moved with the MAP' : 'posterior draws', data: histogram,
+                 stepped: 'before', borderColor: colours[0],
                  backgroundColor: 'rgba(31,119,180,0.25)', fill: 'origin'}];
     if (info.prior) {
       var prior = [];
