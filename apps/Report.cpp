@@ -330,9 +330,18 @@ ReportResult WritePage(const ReportOptions& options) {
        "</canvas></div><div class=\"chart\"><canvas id=\"chart-temperature\"></canvas></div><div class=\"chart\"><canvas "
        "id=\"chart-ladder\"></canvas></div></div>\n"
     << (chart_js ? "" : no_charts);
+  bool moved = false;  // the intervals moved with a MAP polished at the finer atlas
+  if (map.contains("parameters") && map["parameters"].is_object())
+    for (const auto& [name, p] : map["parameters"].items())
+      moved = moved || (p.is_object() && p.value("interval_shift", json(0.0)).is_number() &&
+                        p["interval_shift"].get<double>() != 0.0);
   h << "<h2 id=\"marginals\">Traces and marginals</h2>\n<p>Left: each chain's trace. Right: the histogram of the draws "
        "after burn-in, all chains, with the prior's density (dashed) on the same scale and the MAP (red)"
-    << (truth.is_object() ? " and the truth (green)" : "") << ".</p>\n<div id=\"per-parameter\"></div>\n"
+    << (truth.is_object() ? " and the truth (green)" : "") << "."
+    << (moved ? " The MAP was polished at twice the atlas's side after sampling, so the histograms, like map.json's "
+                "intervals, show the draws moved with it (<code>interval_shift</code>); the traces show them as sampled."
+              : "")
+    << "</p>\n<div id=\"per-parameter\"></div>\n"
     << "<h3>Most correlated pairs</h3><div class=\"grid\" id=\"pairs\"></div>\n" << (chart_js ? "" : no_charts);
   h << "<h2 id=\"cameras\">Cameras</h2>\n<p>The wireframe is the model at the MAP: its boundary edges, its creases "
        "(faces turning by more than 20°) and its silhouette; hidden edges are drawn too. Images are JPEG copies, "
