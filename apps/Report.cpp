@@ -330,12 +330,10 @@ ReportResult WritePage(const ReportOptions& options) {
        "</canvas></div><div class=\"chart\"><canvas id=\"chart-temperature\"></canvas></div><div class=\"chart\"><canvas "
        "id=\"chart-ladder\"></canvas></div></div>\n"
     << (chart_js ? "" : no_charts);
-  bool moved = false;  // the intervals moved with a MAP polished at the finer atlas
-  if (map.contains("parameters") && map["parameters"].is_object())
-    for (const auto& [name, p] : map["parameters"].items()) {
-      const json shift = p.is_object() ? p.value("interval_shift", json(0.0)) : json();
-      moved = moved || (shift.is_number() && shift.get<double>() != 0.0);
-    }
+  // Whether the intervals moved with a MAP polished at the finer atlas (ParameterTable's "shift").
+  const bool moved = std::any_of(data["parameters"].begin(), data["parameters"].end(), [](const json& entry) {
+    return entry["shift"].is_number() && entry["shift"].get<double>() != 0.0;
+  });
   h << "<h2 id=\"marginals\">Traces and marginals</h2>\n<p>Left: each chain's trace. Right: the histogram of the draws "
        "after burn-in, all chains, with the prior's density (dashed) on the same scale and the MAP (red)"
     << (truth.is_object() ? " and the truth (green)" : "") << "."
