@@ -44,6 +44,7 @@ void CheckFitOptions(const FitOptions& options) {
   if (!(std::isfinite(options.evaluations) && options.evaluations >= 1))
     throw InputError("", "--evaluations", "the budget must be at least 1 full-resolution evaluation");
   if (options.levels < 0) throw InputError("", "--levels", "must be ≥ 0 (0: all the scene's levels)");
+  if (options.restarts < 0) throw InputError("", "--restarts", "must be ≥ 0");
 }
 
 FitResult FitMap(const FitOptions& options, vk::Device& device) {
@@ -59,6 +60,7 @@ FitResult FitMap(const FitOptions& options, vk::Device& device) {
   search.max_cost = options.evaluations;
   search.levels = options.levels > 0 ? options.levels : likelihood->levels();
   search.seed = scene.sampler.seed;
+  search.restarts = options.restarts;
   FitProgress progress(options.quiet, options.evaluations);
   FitResult result;
   for (const Parameter& p : scene.parameters) result.names.push_back(p.name);
@@ -90,6 +92,7 @@ FitResult FitMap(const FitOptions& options, vk::Device& device) {
       {"full_resolution_equivalents", s.cost},
       {"levels", s.levels},
       {"level_evaluations", s.level_evaluations},
+      {"restarts", s.restarts},
       {"wall_s", result.wall_s},
       {"message", s.message},
       {"settings",
@@ -98,6 +101,7 @@ FitResult FitMap(const FitOptions& options, vk::Device& device) {
         {"device", device.name()},
         {"budget", options.evaluations},
         {"levels", search.levels},
+        {"restarts", search.restarts},
         {"seed", search.seed}}}};
   scene.WriteValues(options.output_dir / "at_map.json", s.map);  // for render --at, likelihood --at
   result.map_json = options.output_dir / "map.json";

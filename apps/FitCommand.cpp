@@ -28,6 +28,10 @@ int RunFit(int argc, char** argv) {
                  "budget in full-resolution-equivalent evaluations; one at pyramid level l counts 4^-l "
                  "(default 300)");
   app.add_option("--levels", options.levels, "pyramid levels to search, coarsest first (default 0: all the scene's)");
+  app.add_option("--restarts", options.restarts,
+                 "restart a local method (bobyqa, neldermead, sbplx) from its mode at full resolution up to N "
+                 "times while the budget lasts, until a restart moves no parameter by 0.1 % of its prior width: "
+                 "on a rasterised likelihood BOBYQA can stop short of the mode (default 3; 0: as NLopt ends it)");
   app.add_flag("-q,--quiet", options.quiet, "no progress on stderr");
   if (auto status = Parse(app, argc, argv)) return *status;
   if (!opt::FromString(method, &options.method))

@@ -286,6 +286,7 @@ PeersReport RunPeers(const PeersOptions& options, vk::Device& device, const Peer
         fit.overrides = sets;
         fit.method = method;
         fit.evaluations = options.budget;
+        fit.restarts = 0;  // the method as NLopt runs it: what a user would otherwise pick
         fit.quiet = true;
         // The running MAP as the sampler keeps it: the best at the current level.
         int level = -1;

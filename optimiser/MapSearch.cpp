@@ -91,7 +91,7 @@ class Search {
   // Searches one level from `start` within `allowance` full-resolution equivalents; the best
   // point of this level (the start itself if nothing better was scored) is returned.
   std::vector<double> Level(int level, std::vector<double> start, double allowance, double step_fraction,
-                            double tolerance) {
+                            double tolerance, const std::string& name) {
     level_ = level;
     target_.SetLevel(level);
     best_value_ = -kSearchInf;
@@ -147,8 +147,9 @@ class Search {
     if (error_) std::rethrow_exception(error_);
     // (Other NLopt errors, invalid arguments, are programmer errors: they propagate.)
     if (!s_.message.empty()) s_.message += "; ";
-    s_.message += "level " + std::to_string(level) + ": " + ResultName(result);
-    if (level == 0 && std::isfinite(best_value_)) {
+    s_.message += name + ": " + ResultName(result);
+    // A restart that found nothing higher keeps the MAP it started from.
+    if (level == 0 && std::isfinite(best_value_) && (s_.map.empty() || best_value_ > s_.log_posterior)) {
       s_.map = best_;
       s_.log_prior = best_prior_;
       s_.log_likelihood = best_likelihood_;
@@ -217,6 +218,9 @@ bool MapSearchOptions::IsValid(std::string* why) const {
     if (!(std::isfinite(s) && s > 0)) return SearchFail(why, "initial_steps must be positive numbers");
   if (!(tolerance >= 0 && coarse_tolerance >= 0)) return SearchFail(why, "tolerances must be ≥ 0");
   if (!(normal_span > 0)) return SearchFail(why, "normal_span must be positive");
+  if (restarts < 0) return SearchFail(why, "restarts must be ≥ 0");
+  if (!(restart_step > 0 && restart_step <= 1)) return SearchFail(why, "restart_step must lie in (0, 1]");
+  if (!(restart_tolerance >= 0)) return SearchFail(why, "restart_tolerance must be ≥ 0");
   return true;
 }
 
@@ -253,8 +257,21 @@ bool SearchMap(const MapSearchOptions& options, const std::vector<ParameterSpec>
     const int coarse_done = levels - 1 - level;
     const double allowance = level > 0 ? options.coarse_share * options.max_cost * (coarse_done + 1) - spent_before
                                        : options.max_cost - spent_before;
-    point = search.Level(level, point, allowance, step, level > 0 ? options.coarse_tolerance : options.tolerance);
+    point = search.Level(level, point, allowance, step, level > 0 ? options.coarse_tolerance : options.tolerance,
+                         "level " + std::to_string(level));
     step *= options.step_shrink;
+  }
+  const bool local = options.method == SearchMethod::Bobyqa || options.method == SearchMethod::NelderMead ||
+                     options.method == SearchMethod::Sbplx;
+  while (local && summary->restarts < options.restarts && !summary->map.empty() &&
+         summary->cost + 1.0 <= options.max_cost * (1.0 + 1e-12)) {
+    const std::vector<double> from = summary->map;
+    ++summary->restarts;
+    search.Level(0, from, options.max_cost - summary->cost, options.restart_step, options.tolerance,
+                 "restart " + std::to_string(summary->restarts));
+    double moved = 0.0;
+    for (size_t i = 0; i < d; ++i) moved = std::max(moved, std::abs(summary->map[i] - from[i]) / parameters[i].Width());
+    if (!(moved > options.restart_tolerance)) break;
   }
   target.SetLevel(0);
   summary->ok = !summary->map.empty();

@@ -60,6 +60,16 @@ struct MapSearchOptions {
   double coarse_tolerance = 1e-4;
   // Normal priors without bounds have no box: the search keeps to mean ± this many sds.
   double normal_span = 5.0;
+  // Restarts of a local method at level 0 from its best point (0: the method's one run, as
+  // NLopt ends it). On a rasterised likelihood BOBYQA's trust region can shrink to nothing
+  // on the roughness short of the mode and report convergence (house at 0.25×, σ 16: a roof
+  // height 1.4 % of its prior off; restarted once, 0.35 %, 334 nats higher). Each restart
+  // begins with steps of restart_step of each prior width; they end when the budget is
+  // spent, after `restarts`, or when one moves no parameter by more than restart_tolerance
+  // of its width. The global methods spend the budget and are never restarted.
+  int restarts = 0;
+  double restart_step = 0.02;
+  double restart_tolerance = 1e-3;
   uint64_t seed = 1;  // NLopt's random numbers (crs2lm, isres; nlopt::srand)
 
   bool IsValid(std::string* why) const;
@@ -85,6 +95,7 @@ struct MapSearchSummary {
   double cost = 0.0;                         // full-resolution equivalents spent
   std::vector<int> levels;                   // the levels searched, in order
   std::vector<int64_t> level_evaluations;    // evaluations at each of `levels`
+  int restarts = 0;                          // level-0 restarts run (each also listed in `levels`)
 
   std::string BriefReport() const;  // one line
 };

@@ -1,6 +1,7 @@
 // The MAP search with NLopt (MapSearch.h): every method finds the mode of a correlated
 // quadratic and of a curved valley, keeps to the box of the priors and to its budget, counts
-// what it spends, walks the levels coarsest first, and reports what it was given wrong.
+// what it spends, walks the levels coarsest first, restarts past roughness that stopped it,
+// and reports what it was given wrong.
 
 #include <gtest/gtest.h>
 
@@ -12,6 +13,8 @@
 
 namespace vkr::opt::test {
 namespace {
+
+constexpr double kPi = 3.14159265358979323846;
 
 const SearchMethod kAll[] = {SearchMethod::Bobyqa, SearchMethod::NelderMead, SearchMethod::Sbplx,
                              SearchMethod::Crs2Lm, SearchMethod::Isres};
@@ -185,6 +188,53 @@ TEST(MapSearch, NormalPriorsWithoutBoundsSearchMeanPlusMinusFiveSd) {
   EXPECT_NEAR(s.map[0], 2.0, 1e-4);
 }
 
+// The quadratic as a rasterised likelihood sees it: a washboard of local maxima every 1/100
+// (texel columns that switch between views as a face moves) on top of the trend.
+double RoughQuadratic(const std::vector<double>& x) {
+  double ripple = 0.0;
+  for (double xi : x) ripple += std::abs(std::sin(kPi * 100.0 * xi));
+  return Quadratic(x) - 0.05 * ripple;
+}
+
+double DistanceToQuadraticMode(const std::vector<double>& x) {
+  return std::hypot(x[0] - 0.3, x[1] + 0.6, x[2] - 1.2);
+}
+
+TEST(MapSearch, RestartsCarryBobyqaPastWhereRoughnessStoppedIt) {
+  auto search = [](int restarts) {
+    FunctionTarget target([](const std::vector<double>& x, int) { return RoughQuadratic(x); }, 1);
+    MapSearchOptions o;
+    o.max_cost = 400;
+    o.restarts = restarts;
+    MapSearchSummary s;
+    EXPECT_TRUE(SearchMap(o, QuadraticParameters(), target, &s)) << s.message;
+    EXPECT_LE(s.cost, 400.0 + 1e-9);
+    return s;
+  };
+  const MapSearchSummary plain = search(0), restarted = search(5);
+  EXPECT_EQ(plain.restarts, 0);
+  EXPECT_EQ(plain.levels, std::vector<int>{0});
+  // Alone, BOBYQA's trust region shrinks onto a ripple four periods short of the mode.
+  EXPECT_GT(DistanceToQuadraticMode(plain.map), 0.01);
+  EXPECT_LT(DistanceToQuadraticMode(restarted.map), 1e-3);
+  ASSERT_GE(restarted.restarts, 1);
+  // Each restart is another run at level 0, counted as such.
+  EXPECT_EQ(restarted.levels.size(), size_t(1 + restarted.restarts));
+  int64_t evaluations = 0;
+  for (int64_t e : restarted.level_evaluations) evaluations += e;
+  EXPECT_EQ(evaluations, restarted.evaluations);
+  EXPECT_NE(restarted.message.find("restart 1: "), std::string::npos) << restarted.message;
+  EXPECT_GE(restarted.log_posterior, plain.log_posterior);
+  // Where the first run found the mode, one restart confirms it and the rest are not spent.
+  FunctionTarget smooth([](const std::vector<double>& x, int) { return Quadratic(x); }, 1);
+  MapSearchOptions o;
+  o.restarts = 5;
+  MapSearchSummary s;
+  ASSERT_TRUE(SearchMap(o, QuadraticParameters(), smooth, &s)) << s.message;
+  EXPECT_EQ(s.restarts, 1) << s.message;
+  EXPECT_LT(DistanceToQuadraticMode(s.map), 1e-4);
+}
+
 TEST(MapSearch, BadInputIsAReasonNotACrash) {
   FunctionTarget target([](const std::vector<double>& x, int) { return Quadratic(x); }, 1);
   MapSearchSummary s;
@@ -192,6 +242,14 @@ TEST(MapSearch, BadInputIsAReasonNotACrash) {
   o.max_cost = 0;
   EXPECT_FALSE(SearchMap(o, QuadraticParameters(), target, &s));
   EXPECT_NE(s.message.find("max_cost"), std::string::npos) << s.message;
+  o = MapSearchOptions{};
+  o.restarts = -1;
+  EXPECT_FALSE(SearchMap(o, QuadraticParameters(), target, &s));
+  EXPECT_NE(s.message.find("restarts"), std::string::npos) << s.message;
+  o = MapSearchOptions{};
+  o.restart_step = 0;
+  EXPECT_FALSE(SearchMap(o, QuadraticParameters(), target, &s));
+  EXPECT_NE(s.message.find("restart_step"), std::string::npos) << s.message;
   o = MapSearchOptions{};
   o.start = {0.0, 0.0, 5.0};  // c outside [0, 2]
   EXPECT_FALSE(SearchMap(o, QuadraticParameters(), target, &s));
