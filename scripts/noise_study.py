@@ -296,6 +296,9 @@ def score(asset, sigma, record, map_path):
     result["calibration"] = m.get("calibration") or {}
     result["device"] = settings.get("device")
     result["diagnosis"] = m.get("diagnosis") or {}
+    # The local search before sampling (sampler.start_search): whether its mode became the MAP.
+    start = m.get("start_search") or {}
+    result["start_adopted"] = start.get("adopted") if start.get("evaluations") else None
     noise_from_map(result, record)
     for name, est in m.get("parameters", {}).items():
         if name not in asset["truth"] or name not in asset["widths"]:
@@ -395,6 +398,13 @@ def sigma_used(r):
     return text + " (est.)" if r.get("sigma_estimated") else text
 
 
+def map_source(r):
+    """Where the MAP came from: the chains, or the local search before sampling whose mode
+    scored higher at the end (map.json `start_search.adopted`)."""
+    adopted = r.get("start_adopted")
+    return "–" if adopted is None else ("local search" if adopted else "chains")
+
+
 def exit_text(r):
     if r["synth_exit"] not in (0, None):
         return f"synth {r['synth_exit']}"
@@ -426,16 +436,18 @@ def report(study, runs, bars, report_path, plot_path):
     out += ["Relative error = |MAP − truth| / prior width (uniform: hi − lo; normal: 4 sd). "
             "Covered = truth inside [q025, q975]. Likelihood σ (est. = estimated by `auto`), the "
             "texel correlation factor κ and χ²/dof are the run's own (map.json `calibration`, "
-            "`settings`, `diagnosis`): χ²/dof near 1 means σ matches the images' noise.", ""]
+            "`settings`, `diagnosis`): χ²/dof near 1 means σ matches the images' noise. "
+            "MAP from: the chains', or the local search's before sampling where its mode scored "
+            "higher at the end (map.json `start_search`; – where there was none).", ""]
     out += [f"![relative error against noise]({os.path.relpath(plot_path, report_path.parent)})", ""]
     out += ["## Runs", "", md_table(
         ["asset", "σ", "likelihood σ", "κ", "χ²/dof", "wall s", "CPU s", "median rel. error", "max rel. error",
-         "covered", "max R-hat", "exit"],
+         "covered", "max R-hat", "MAP from", "exit"],
         [[r["asset"], fmt_sigma(r["sigma"]), sigma_used(r), num(r.get("kappa"), ".2f"),
           num(r.get("chi2_per_dof"), ".3f"),
           num(r["wall_s"], ".1f"), num(r["cpu_s"], ".1f"), pct(r["median_rel_error"]),
           pct(r["max_rel_error"]), f"{r['covered']}/{r['total']}", num(r["max_rhat"], ".3f"),
-          exit_text(r)] for r in runs]), ""]
+          map_source(r), exit_text(r)] for r in runs]), ""]
     out += median_table(runs, s["assets"], s["sigmas"])
     out += coverage_section(runs, s["sigmas"])
     out += ["## Bars", "", md_table(["bar", "measured", "verdict"],
