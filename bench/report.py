@@ -231,8 +231,11 @@ def analysis(res, by_name, rows):
                "the remedies are in the shaders (see below), not in the hardware. The same binary reads up to "
                "±25 % apart on this shared machine from one minute to the next (LAVAPIPE.md), and from one day "
                "to the next by more (the noise study's `box` run at σ 16, the same binary making the same "
-               "chains: 292 CPU s on 2026-11-24, 419 on 2026-11-25, on an otherwise idle machine), so the margin "
-               "matters as much as the median.")
+               "chains: 292 CPU s on 2026-11-24, 419 on 2026-11-25, 205 on 2026-11-27, on an otherwise idle "
+               "machine; this table's `house` row read 40.90 hypotheses/s and 45.31 CPU ms per hypothesis on "
+               "2026-11-24 and 58.65 and 32.36 on 2026-11-27, when the noise study's runs, the same chains to the "
+               "digit, took half the CPU seconds of 2026-11-25: mostly the host, not the code), so the margin "
+               "matters as much as the median, and a bar met on one day's host need not be met on the next.")
     out.append("")
     out.append("What was done and what would speed it further:")
     out.append("")
