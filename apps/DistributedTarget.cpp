@@ -45,7 +45,14 @@ std::vector<double> DistributedTarget::Evaluate(const std::vector<std::vector<do
 }
 
 nlohmann::json DistributedTarget::Calibrate(const std::vector<double>& psi, const std::vector<double>& covariance) {
-  nlohmann::json mine = local_.Calibrate(psi, covariance);
+  return AgreeWithRankZero(local_.Calibrate(psi, covariance));
+}
+
+nlohmann::json DistributedTarget::RefitAt(const std::vector<double>& psi) {
+  return AgreeWithRankZero(local_.RefitAt(psi));
+}
+
+nlohmann::json DistributedTarget::AgreeWithRankZero(nlohmann::json mine) {
   if (!ranks_.distributed()) return mine;
   std::string text = ranks_.rank() == 0 ? mine.dump() : std::string();
   ranks_.Broadcast(&text);

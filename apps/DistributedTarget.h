@@ -48,6 +48,8 @@ class DistributedTarget : public opt::Target {
   // a warning: its clutter masks are then read from the files rank 0 wrote into OUT.
   nlohmann::json Calibrate(const std::vector<double>& psi, const std::vector<double>& covariance) override;
   void RestoreCalibration(const nlohmann::json& calibration) override { local_.RestoreCalibration(calibration); }
+  // As Calibrate: every rank refits, rank 0's result is what every rank keeps.
+  nlohmann::json RefitAt(const std::vector<double>& psi) override;
   // Every rank scores the modes on its own device (the same computation, which leaves each
   // rank's likelihood as it was); rank 0's values, sent bit for bit, decide on every rank.
   std::vector<double> ScoreModes(const std::vector<std::vector<double>>& modes) override;
@@ -55,6 +57,9 @@ class DistributedTarget : public opt::Target {
   ExchangeTimes& times() { return times_; }
 
  private:
+  // `mine`, this rank's calibration, or rank 0's where they differ (with a warning).
+  nlohmann::json AgreeWithRankZero(nlohmann::json mine);
+
   opt::Target& local_;
   const Ranks& ranks_;
   ExchangeTimes times_;

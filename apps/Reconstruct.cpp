@@ -312,6 +312,9 @@ ReconstructResult Reconstruct(const ReconstructOptions& options, vk::Device& dev
   // The local search's mode against the chains' MAP, each scored with the colour correction
   // and clutter masks a calibration at it would find (Target::ScoreModes).
   opt::ModeComparison start_compared;
+  // The checkpoint keeps the chains' calibration, which an adoption replaces in the summary
+  // (the nuisances refitted at the adopted mode): a resumed finished run reloads its masks.
+  const nlohmann::json chains_calibration = summary.calibration;
   if (summary.termination == opt::Termination::Completed && !start.map.empty()) {
     start_compared = opt::AdoptIfHigher(sampler->parameters(), target, start.map, &summary);
     if (start_compared.adopted && options.observer.best) options.observer.best(summary.map);
@@ -403,14 +406,16 @@ ReconstructResult Reconstruct(const ReconstructOptions& options, vk::Device& dev
     clutter_share = summary.calibration["clutter"]["share"].get<std::vector<double>>();
     outputs.SetClutterMasks(clutter);
   }
-  // The checkpoint's masks other than the final ones will never be read again.
+  // The checkpoint's masks other than the final ones (the outputs', the checkpoint's) will
+  // never be read again.
+  auto names = [](const nlohmann::json& calibration, const std::string& name) {
+    return calibration.is_object() && calibration.contains("clutter") &&
+           std::count(calibration["clutter"]["files"].begin(), calibration["clutter"]["files"].end(), name) > 0;
+  };
   if (fs::is_directory(options.output_dir / kCheckpointMasks))
     for (const auto& entry : fs::directory_iterator(options.output_dir / kCheckpointMasks)) {
       const std::string name = std::string(kCheckpointMasks) + "/" + entry.path().filename().string();
-      const bool kept = summary.calibration.is_object() && summary.calibration.contains("clutter") &&
-                        std::count(summary.calibration["clutter"]["files"].begin(),
-                                   summary.calibration["clutter"]["files"].end(), name) > 0;
-      if (!kept) fs::remove(entry.path());
+      if (!names(summary.calibration, name) && !names(chains_calibration, name)) fs::remove(entry.path());
     }
   Evaluation at_map;
   const SurfaceDump dump = outputs.EvaluateAndDump(summary.map, &at_map);

@@ -68,6 +68,10 @@ nlohmann::json LikelihoodTarget::Calibrate(const std::vector<double>& psi, const
   calibration_ = CalibrateNoise(likelihood_, psi, covariance, calibration_.kappa, estimate_sigma_, mask_clutter_,
                                 scene_.likelihood.sandwich_blocks);
   calibrated_ = true;
+  return CalibrationJson();
+}
+
+nlohmann::json LikelihoodTarget::CalibrationJson() const {
   nlohmann::json json = ToJson(calibration_);
   const ClutterMasks& clutter = calibration_.clutter;
   if (!clutter.masks.empty()) {
@@ -76,6 +80,22 @@ nlohmann::json LikelihoodTarget::Calibrate(const std::vector<double>& psi, const
     json["clutter"] = {{"files", files}, {"share", clutter.share}};
   }
   return json;
+}
+
+nlohmann::json LikelihoodTarget::RefitAt(const std::vector<double>& psi) {
+  if (!calibrated_) return nullptr;
+  // A settling round's calibration at ψ without the sandwich: the masks are found with the
+  // σ fitted before them, as there (masking under the final, smaller σ finds more clutter;
+  // on stairs at σ 0 twice as much). κ stays the one the chains sampled with.
+  const NoiseCalibration sandwich = calibration_;
+  calibration_ = CalibrateNoise(likelihood_, psi, {}, sandwich.kappa, estimate_sigma_, mask_clutter_,
+                                scene_.likelihood.sandwich_blocks);
+  calibration_.kappa = sandwich.kappa;
+  calibration_.kappa_min = sandwich.kappa_min;
+  calibration_.kappa_max = sandwich.kappa_max;
+  calibration_.blocks = sandwich.blocks;
+  calibration_.block = sandwich.block;
+  return CalibrationJson();
 }
 
 std::string LikelihoodTarget::KeepMask(const std::string& camera, const Image& mask) const {

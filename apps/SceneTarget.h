@@ -54,6 +54,9 @@ class LikelihoodTarget : public opt::Target {
   std::vector<double> Evaluate(const std::vector<std::vector<double>>& batch) override;
   nlohmann::json Calibrate(const std::vector<double>& psi, const std::vector<double>& covariance) override;
   void RestoreCalibration(const nlohmann::json& calibration) override;
+  // The colour correction, σ and δ and the clutter masks estimated anew at ψ, as a settling
+  // round calibrates (κ kept).
+  nlohmann::json RefitAt(const std::vector<double>& psi) override;
   // Once calibrated: each mode with its own colour correction, over the pixels that are not
   // clutter to every mode (those each mode's own calibration would mask, intersected), with
   // the calibration's σ, δ and κ; then the calibration is put back as it was.
@@ -62,6 +65,8 @@ class LikelihoodTarget : public opt::Target {
  private:
   // Keeps `mask` for checkpoints; its file name relative to the output folder.
   std::string KeepMask(const std::string& camera, const Image& mask) const;
+  // calibration_ as checkpoints and map.json carry it, its masks kept as files.
+  nlohmann::json CalibrationJson() const;
 
   Likelihood& likelihood_;
   const Scene& scene_;

@@ -74,10 +74,17 @@ ModeComparison AdoptIfHigher(const std::vector<ParameterSpec>& parameters, Targe
   c.chains = LogPrior(parameters, summary->map) + scores.at(0);
   c.candidate = log_prior + scores.at(1);
   if (!std::isfinite(c.candidate) || !(c.candidate > c.chains)) return c;
+  // The colour correction and masks fitted at the chains' mode would otherwise go on
+  // describing it: in the polish, and in the outputs a run writes at its MAP.
+  const nlohmann::json refit = target.RefitAt(candidate);
   target.SetLevel(0);
   const double log_likelihood = target.Evaluate({candidate}).at(0);
   summary->evaluations += 1;
-  if (!std::isfinite(log_likelihood)) return c;
+  if (!std::isfinite(log_likelihood)) {
+    if (!refit.is_null()) target.RestoreCalibration(summary->calibration);
+    return c;
+  }
+  if (!refit.is_null()) summary->calibration = refit;
   SetMap(candidate, log_prior, log_likelihood, summary);
   summary->map_from_search = true;
   c.adopted = true;

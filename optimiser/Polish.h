@@ -55,9 +55,10 @@ struct ModeComparison {
 // After the sampler: scores the summary's MAP and `candidate` with Target::ScoreModes (each
 // with the nuisances a calibration at it would fit: masks found at the chains' mode would
 // otherwise protect it) and makes `candidate` summary's MAP where its log posterior is higher.
-// The adopted MAP's log likelihood is then the target's own (calibrated as the sampler's MAP
-// was), so that what follows compares with it; the per-parameter summaries other than "map"
-// stay the chains'. A candidate outside the prior or of the wrong length, or a summary
+// The target's nuisances are then refitted at it (Target::RefitAt; summary's calibration
+// becomes the refit's, with the chains' κ), and the adopted MAP's log likelihood is the
+// target's own under them, so that what follows compares with it; the per-parameter
+// summaries other than "map" stay the chains'. A candidate outside the prior or of the wrong length, or a summary
 // without a MAP, is not scored.
 ModeComparison AdoptIfHigher(const std::vector<ParameterSpec>& parameters, Target& target,
                              const std::vector<double>& candidate, SamplerSummary* summary);

@@ -43,6 +43,18 @@ class Target {
   }
   virtual void RestoreCalibration(const nlohmann::json& calibration) { (void)calibration; }
 
+  // After another mode than the calibrated one became the MAP (a local search's, Polish.h's
+  // AdoptIfHigher): what a calibration estimates at its mode — a colour correction, the
+  // noise level, masks over what that mode fails to explain — estimated again at ψ, except
+  // how much evidence the samples carry (κ, which the chains sampled with), so that what
+  // follows (the polish, the outputs) describes ψ rather than the mode the chains
+  // calibrated at. Returns the calibration as Calibrate() does; null where the target has
+  // none (and is then unchanged). RestoreCalibration puts the earlier one back.
+  virtual nlohmann::json RefitAt(const std::vector<double>& psi) {
+    (void)psi;
+    return nullptr;
+  }
+
   // The log-likelihoods of competing modes (the chains' MAP, a local search's mode) at level
   // 0, scored so that no mode is favoured by where the calibration was made: a target whose
   // calibration fits nuisances at one mode (a colour correction, masks over what that mode

@@ -4,6 +4,7 @@
 // the clutter masks take out the column's top in the photographs (what that mode fails to
 // explain) and the colour correction fits it, and under both it outscores the true poster.
 // Scored as ScoreModes scores them, the truth wins; and the target scores as before after.
+// RefitAt, what `run` does once it adopts the truth, gives it its own correction and masks.
 
 #include <gtest/gtest.h>
 
@@ -57,6 +58,26 @@ TEST_F(ScoreModesTest, MasksAndColoursFittedAtAWrongModeNoLongerProtectIt) {
   EXPECT_GT(scores[1], scores[0]);
 
   // The calibration is back as it was: the same values to the bit.
+  target.SetLevel(0);
+  EXPECT_EQ(target.Evaluate({short_column, truth}), before);
+
+  // Adopted, the truth gets its own colour correction, noise level and masks (what `run`
+  // then polishes and writes out with); κ stays the one the chains sampled with.
+  const nlohmann::json refit = target.RefitAt(truth);
+  EXPECT_EQ(refit.at("kappa"), calibration.at("kappa"));
+  EXPECT_NE(refit.at("photometric"), calibration.at("photometric"));
+  EXPECT_LT(refit.at("sigma").get<double>(), calibration.at("sigma").get<double>())
+      << "the photographs' noise, no longer inflated by the short column's misfit";
+  double masked_at_truth = 0.0;
+  if (refit.contains("clutter"))
+    for (double share : refit["clutter"]["share"]) masked_at_truth += share;
+  EXPECT_LT(masked_at_truth, masked) << "the column's top is no clutter at the truth";
+  target.SetLevel(0);
+  const std::vector<double> refitted = target.Evaluate({short_column, truth});
+  EXPECT_GT(refitted[1], refitted[0]);
+  EXPECT_GT(refitted[1], before[1]);
+  // RestoreCalibration undoes it, to the bit.
+  target.RestoreCalibration(calibration);
   target.SetLevel(0);
   EXPECT_EQ(target.Evaluate({short_column, truth}), before);
 }

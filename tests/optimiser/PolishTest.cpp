@@ -164,7 +164,16 @@ class FavouringTarget : public Target {
     for (const auto& psi : modes) out.push_back(TwoModes(psi, 0));
     return out;
   }
-  int score_calls = 0;
+  // Refitted at a mode, the calibration favours that mode instead.
+  nlohmann::json RefitAt(const std::vector<double>& psi) override {
+    ++refit_calls;
+    favoured_ = psi;
+    return {{"fitted_at", psi}};
+  }
+  void RestoreCalibration(const nlohmann::json& calibration) override {
+    favoured_ = calibration.at("fitted_at").get<std::vector<double>>();
+  }
+  int score_calls = 0, refit_calls = 0;
 
  private:
   std::vector<double> favoured_;
@@ -179,13 +188,23 @@ TEST(StartSearch, TheModesAreComparedAsScoreModesScoresThemNotUnderTheChainsCali
   summary.map_log_prior = LogPrior(parameters, chains);
   summary.map_log_likelihood = target.Evaluate({chains})[0];
   summary.map_log_posterior = summary.map_log_prior + summary.map_log_likelihood;
+  summary.calibration = {{"fitted_at", chains}};
   for (const ParameterSpec& p : parameters) summary.parameters.push_back(ParameterSummary{p.name});
   ASSERT_GT(target.Evaluate({chains})[0], target.Evaluate({search})[0]);  // the trap
+  // A lower mode is not adopted, and the calibration stays the chains'.
+  SamplerSummary kept = summary;
+  EXPECT_FALSE(AdoptIfHigher(parameters, target, {-0.6, 0.6}, &kept).adopted);
+  EXPECT_EQ(target.refit_calls, 0);
+  EXPECT_EQ(kept.calibration, summary.calibration);
   const ModeComparison c = AdoptIfHigher(parameters, target, search, &summary);
-  EXPECT_EQ(target.score_calls, 1);
+  EXPECT_EQ(target.score_calls, 2);
   EXPECT_TRUE(c.adopted);
   EXPECT_DOUBLE_EQ(c.candidate - c.chains, TwoModes(search, 0) - TwoModes(chains, 0));
   EXPECT_EQ(summary.map, search);
+  // The nuisances are refitted at the adopted mode; its log likelihood is the target's under them.
+  EXPECT_EQ(target.refit_calls, 1);
+  EXPECT_EQ(summary.calibration, nlohmann::json({{"fitted_at", search}}));
+  EXPECT_DOUBLE_EQ(summary.map_log_likelihood, 0.0);
   EXPECT_DOUBLE_EQ(summary.map_log_likelihood, target.Evaluate({search})[0]);
 }
 
