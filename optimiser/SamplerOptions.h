@@ -139,7 +139,7 @@ struct SamplerOptions {
   // with SearchStart and AdoptIfHigher (Polish.h); not by the Sampler itself.
   // On by default since 2026-11-27. Compared as ScoreModes compares them, its mode was not
   // adopted on house_annex (an annex the scene leaves out) on noise seeds 1–3, nor on Merton;
-  // in the noise study it was adopted once (stairs at σ 0: median error 0.08 → 0.01 % of the
+  // in the noise study it was adopted once (stairs at σ 0: median error 0.08 → 0.07 % of the
   // prior width) and every other run's chains, MAP and intervals stayed the same to the digit
   // (docs/NOISE_STUDY.md). (Under the earlier comparison, at the chains' calibration, it was
   // adopted on house_annex and the MAP's median error went from 1.59 % to 2.86 %: where the
