@@ -86,8 +86,8 @@ nlohmann::json LikelihoodTarget::RefitAt(const std::vector<double>& psi) {
   if (!calibrated_) return nullptr;
   // A settling round's calibration at ψ without the sandwich: the masks are found with the
   // σ fitted before them, as there (masking under the final, smaller σ finds more clutter;
-  // on stairs at σ 0 twice as much). κ stays the one the chains sampled with.
-  const NoiseCalibration sandwich = calibration_;
+  // on stairs at σ 0 1.8 times as much). κ stays the one the chains sampled with.
+  const NoiseCalibration sandwich = calibration_;  // the chains' κ and its eigenvalues
   calibration_ = CalibrateNoise(likelihood_, psi, {}, sandwich.kappa, estimate_sigma_, mask_clutter_,
                                 scene_.likelihood.sandwich_blocks);
   calibration_.kappa = sandwich.kappa;
