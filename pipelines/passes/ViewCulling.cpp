@@ -2,6 +2,7 @@
 
 #include <Eigen/LU>
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 namespace vkr {
@@ -14,6 +15,11 @@ constexpr int kMaxClusters = 512;
 // Relative margins of the tests, far above the shader's float rounding (~1e-6).
 constexpr double kFrustumMargin = 1e-4;
 constexpr double kFacingMargin = 1e-3;
+// A cluster is drawn in parts only when it holds at least this share of the charts' area
+// and its shaded rectangle leaves out at least kPartialSaving of its atlas bounds: each part
+// is a draw of its own (five per camera), worth it for a ground, not for a window.
+constexpr double kPartialMinArea = 0.02;
+constexpr double kPartialSaving = 0.1;
 
 void Append(std::vector<IndexRun>& runs, IndexRun run) {
   if (!runs.empty() && runs.back().first + runs.back().count == run.first) runs.back().count += run.count;
@@ -62,7 +68,14 @@ ViewCulling::ViewCulling(const SceneGeometry& geometry) : index_count_(uint32_t(
       const float* b = v[idx[3 * size_t(k) + 1]].atlas_uv;
       const float* e = v[idx[3 * size_t(k) + 2]].atlas_uv;
       c.area += 0.5 * std::abs(double((b[0] - a[0]) * (e[1] - a[1]) - (b[1] - a[1]) * (e[0] - a[0])));
+      for (int j = 0; j < 3; ++j) {
+        const uint32_t i = idx[3 * size_t(k) + size_t(j)];
+        c.corners.push_back(position(i));
+        c.corner_uvs.emplace_back(v[i].atlas_uv[0], v[i].atlas_uv[1]);
+      }
     }
+    c.uv_lo = c.uv_hi = c.corner_uvs.front();
+    for (const Eigen::Vector2d& uv : c.corner_uvs) c.uv_lo = c.uv_lo.cwiseMin(uv), c.uv_hi = c.uv_hi.cwiseMax(uv);
     clusters_.push_back(std::move(c));
     t = end;
   }
@@ -70,6 +83,52 @@ ViewCulling::ViewCulling(const SceneGeometry& geometry) : index_count_(uint32_t(
   for (const Cluster& c : clusters_) total += c.area;
   if (total > 0.0)
     for (Cluster& c : clusters_) c.area /= total;
+  for (Cluster& c : clusters_)
+    if (!(c.area >= kPartialMinArea)) c.corners.clear(), c.corner_uvs.clear();
+}
+
+bool ViewCulling::VisibleRect(const Cluster& cluster, const Eigen::Matrix4d& clip_from_node, double near,
+                              PartialRun* rect) const {
+  // A point is kept where view_texture.frag might shade it: |x| ≤ w, |y| ≤ w, w > near, each
+  // plane moved outwards by the margin Unseen() allows. Points are tracked by barycentric
+  // coordinates, in which the planes are linear, so the clipped corners map to the atlas.
+  bool any = false;
+  Eigen::Vector2d lo(INFINITY, INFINITY), hi(-INFINITY, -INFINITY);
+  for (size_t t = 0; t + 2 < cluster.corners.size(); t += 3) {
+    Eigen::Vector4d c[3];
+    for (int j = 0; j < 3; ++j) c[j] = clip_from_node * cluster.corners[t + size_t(j)].homogeneous();
+    double scale = near;
+    for (const Eigen::Vector4d& p : c) scale = std::max({scale, std::abs(p.x()), std::abs(p.y()), std::abs(p.w())});
+    const double m = 4.0 * kFrustumMargin * scale;
+    auto planes = [&](const Eigen::Vector4d& p) {
+      return std::array<double, 5>{p.w() - p.x() + m, p.w() + p.x() + m, p.w() - p.y() + m, p.w() + p.y() + m,
+                                   p.w() - near + m};
+    };
+    std::vector<Eigen::Vector3d> polygon = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+    for (int k = 0; k < 5 && !polygon.empty(); ++k) {
+      auto value = [&](const Eigen::Vector3d& b) { return planes(b[0] * c[0] + b[1] * c[1] + b[2] * c[2])[size_t(k)]; };
+      std::vector<Eigen::Vector3d> kept;
+      for (size_t i = 0; i < polygon.size(); ++i) {
+        const Eigen::Vector3d& a = polygon[i];
+        const Eigen::Vector3d& b = polygon[(i + 1) % polygon.size()];
+        const double fa = value(a), fb = value(b);
+        if (fa >= 0.0) kept.push_back(a);
+        if ((fa >= 0.0) != (fb >= 0.0)) kept.push_back(a + (fa / (fa - fb)) * (b - a));
+      }
+      polygon = std::move(kept);
+    }
+    for (const Eigen::Vector3d& b : polygon) {
+      const Eigen::Vector2d uv = b[0] * cluster.corner_uvs[t] + b[1] * cluster.corner_uvs[t + 1] +
+                                 b[2] * cluster.corner_uvs[t + 2];
+      lo = lo.cwiseMin(uv), hi = hi.cwiseMax(uv);
+      any = true;
+    }
+  }
+  if (!any) return false;
+  lo = lo.cwiseMax(cluster.uv_lo), hi = hi.cwiseMin(cluster.uv_hi);
+  rect->indices = cluster.indices;
+  rect->u0 = lo.x(), rect->v0 = lo.y(), rect->u1 = hi.x(), rect->v1 = hi.y();
+  return true;
 }
 
 bool ViewCulling::Unseen(const Cluster& cluster, const Eigen::Matrix4d& world_from_node,
@@ -106,7 +165,19 @@ ViewDraws ViewCulling::Classify(const std::vector<Eigen::Matrix4d>& world_from_n
                                 double near) const {
   ViewDraws draws;
   for (const Cluster& c : clusters_) {
-    const bool unseen = Unseen(c, world_from_node.at(size_t(c.node)), clip_from_world, centre, near);
+    const Eigen::Matrix4d& world = world_from_node.at(size_t(c.node));
+    bool unseen = Unseen(c, world, clip_from_world, centre, near);
+    if (!unseen && !c.corners.empty()) {
+      PartialRun part;
+      unseen = !VisibleRect(c, clip_from_world * world, near, &part);
+      const double bounds = (c.uv_hi - c.uv_lo).prod();
+      const double left_out = bounds > 0.0 ? 1.0 - (part.u1 - part.u0) * (part.v1 - part.v0) / bounds : 0.0;
+      if (!unseen && left_out >= kPartialSaving) {
+        draws.partial.push_back(part);
+        draws.unseen_area += c.area * left_out;
+        continue;
+      }
+    }
     Append(unseen ? draws.unseen : draws.shaded, c.indices);
     if (unseen) draws.unseen_area += c.area;
   }

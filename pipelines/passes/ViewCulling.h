@@ -7,6 +7,9 @@
 // their back on it, go to a pipeline that only writes weight 0 — what the full shader writes
 // there — so the view layers, and the likelihood, stay bit-identical. The tests are
 // conservative by a margin far above float rounding: a cluster near a boundary is shaded.
+// A large cluster partly in view (the ground, which takes most of the atlas and most of
+// whose chart a camera may not see) is drawn in parts: the full shader inside a rectangle of
+// the atlas that holds all of it the frustum can see, weight 0 outside.
 
 #include <Eigen/Core>
 #include <cstdint>
@@ -21,11 +24,22 @@ struct IndexRun {
   uint32_t first = 0, count = 0;
 };
 
-// What one camera's view pass draws: `shaded` with the full shader, `unseen` with weight 0.
-// Together they cover every index once, so every chart texel is written.
+// A run drawn in parts: with the full shader inside [u0, u1] × [v0, v1] (atlas coordinates,
+// [0,1]²), which holds every texel of the run the camera's frustum can see, and with weight
+// 0 outside it. ViewTexturePass widens it to whole texels and a margin.
+struct PartialRun {
+  IndexRun indices;
+  double u0 = 0, v0 = 0, u1 = 1, v1 = 1;
+};
+
+// What one camera's view pass draws: `shaded` with the full shader, `unseen` with weight 0,
+// `partial` in parts. Together they cover every index once, so every chart texel is written.
 struct ViewDraws {
   std::vector<IndexRun> shaded, unseen;
-  double unseen_area = 0.0;  // share of the charts' area drawn unseen: what culling saves this camera
+  std::vector<PartialRun> partial;
+  // Share of the charts' area drawn with weight 0: what culling saves this camera (for a
+  // partial run, the part of its atlas bounds outside the shaded rectangle).
+  double unseen_area = 0.0;
 };
 
 class ViewCulling {
@@ -50,9 +64,18 @@ class ViewCulling {
     std::vector<Eigen::Vector3d> hull;  // points whose convex hull holds the cluster (node frame)
     bool flat = false;                  // one plane and one normal for every vertex
     Eigen::Vector3d normal{0, 0, 0};    // node frame, as the vertices carry it (when flat)
+    // Large clusters only (may be drawn in parts): each triangle's corners (node frame) and
+    // their atlas coordinates, three per triangle, and the atlas bounds of them all.
+    std::vector<Eigen::Vector3d> corners;
+    std::vector<Eigen::Vector2d> corner_uvs;
+    Eigen::Vector2d uv_lo{0, 0}, uv_hi{0, 0};
   };
   bool Unseen(const Cluster& cluster, const Eigen::Matrix4d& world_from_node, const Eigen::Matrix4d& clip_from_world,
               const Eigen::Vector3d& centre, double near) const;
+  // The atlas rectangle of the part of `cluster` inside the frustum (each triangle clipped
+  // against the frustum's planes, widened by the test margin), as PartialRun holds it;
+  // false when no part of it is inside.
+  bool VisibleRect(const Cluster& cluster, const Eigen::Matrix4d& clip_from_node, double near, PartialRun* rect) const;
 
   std::vector<Cluster> clusters_;
   uint32_t index_count_ = 0;

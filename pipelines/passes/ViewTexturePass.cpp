@@ -1,5 +1,7 @@
 #include "pipelines/passes/ViewTexturePass.h"
 
+#include <algorithm>
+#include <cmath>
 #include <cstring>
 
 #include "pipelines/passes/PipelineBuilder.h"
@@ -105,8 +107,37 @@ void ViewTexturePass::record(VkCommandBuffer cmd, const ViewCamera& camera, cons
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline);
     for (const IndexRun& run : runs) vkCmdDrawIndexed(cmd, run.count, 1, run.first, 0, 0);
   };
-  draw(checks_validity_.at(size_t(binding)) ? validity_pipeline_ : pipeline_, draws.shaded);
+  const VkPipeline shaded = checks_validity_.at(size_t(binding)) ? validity_pipeline_ : pipeline_;
+  draw(shaded, draws.shaded);
   draw(unseen_pipeline_, draws.unseen);
+  for (const PartialRun& part : draws.partial) {
+    // The rectangle in whole texels, two beyond its bounds on every side: a texel outside
+    // it lies outside the frustum by far more than the shader's rounding, so the full shader
+    // would write weight 0 there too. Scissors split the run: shaded inside, weight 0 in the
+    // bands around it; every texel of the run is drawn once.
+    const auto texel = [&](double u, double shift) {
+      return int32_t(std::clamp(std::floor(u * atlas_size) + shift, 0.0, double(atlas_size)));
+    };
+    const int32_t x0 = texel(part.u0, -2.0), y0 = texel(part.v0, -2.0);
+    const int32_t x1 = texel(part.u1, 3.0), y1 = texel(part.v1, 3.0);
+    const int32_t n = int32_t(atlas_size);
+    const VkRect2D inside{{x0, y0}, {uint32_t(x1 - x0), uint32_t(y1 - y0)}};
+    const VkRect2D bands[4] = {{{0, 0}, {uint32_t(n), uint32_t(y0)}},
+                               {{0, y1}, {uint32_t(n), uint32_t(n - y1)}},
+                               {{0, y0}, {uint32_t(x0), uint32_t(y1 - y0)}},
+                               {{x1, y0}, {uint32_t(n - x1), uint32_t(y1 - y0)}}};
+    auto draw_in = [&](VkPipeline pipeline, const VkRect2D& rect) {
+      if (rect.extent.width == 0 || rect.extent.height == 0) return;
+      vkCmdSetScissor(cmd, 0, 1, &rect);
+      draw(pipeline, {part.indices});
+    };
+    draw_in(shaded, inside);
+    for (const VkRect2D& band : bands) draw_in(unseen_pipeline_, band);
+  }
+  if (!draws.partial.empty()) {
+    const VkRect2D all{{0, 0}, {atlas_size, atlas_size}};
+    vkCmdSetScissor(cmd, 0, 1, &all);
+  }
   vkCmdEndRendering(cmd);
 }
 

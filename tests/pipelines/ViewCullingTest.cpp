@@ -1,6 +1,7 @@
 // ViewCulling (pipelines/passes/ViewCulling.h) on primitives whose answer is plain geometry:
 // what faces away from a camera or lies outside its frustum is unseen, what it might see is
-// shaded, and the two lists always cover the index buffer once.
+// shaded, a large face partly in view is shaded over the patch in view only, and the lists
+// always cover the index buffer once.
 
 #include <gtest/gtest.h>
 
@@ -55,6 +56,12 @@ uint32_t Total(const std::vector<IndexRun>& runs) {
   return n;
 }
 
+uint32_t Total(const std::vector<PartialRun>& runs) {
+  uint32_t n = 0;
+  for (const PartialRun& r : runs) n += r.indices.count;
+  return n;
+}
+
 TEST(ViewCulling, TheFacesOfABoxTurnedAwayAreUnseen) {
   const SceneGeometry g = OneNode(PrimitiveKind::Box);
   // From 5 m out along +x and 3 m up it sees the +x face and the top; from y = 0, between
@@ -84,10 +91,24 @@ TEST(ViewCulling, GroundBehindOrBelowTheCameraIsUnseenAndGroundInViewShaded) {
   const SceneGeometry g = OneNode(PrimitiveKind::Plane);
   const Eigen::Matrix4d ground = Eigen::Vector4d(40.0, 40.0, 1.0, 1.0).asDiagonal();
   const uint32_t all = uint32_t(g.indices.size());
-  // Looking down at it: shaded, though most of it lies outside the view (one face).
+  // Looking down at it from 3 m: drawn in parts, the full shader only over the patch in
+  // view, 3.84 × 2.88 m of the 40 × 40 m (the camera's 640 × 480 pixels at f = 500).
   const ViewDraws down = Classify(g, ground, LookAt({0, -0.01, 3}, {0, 0, 0}));
-  EXPECT_EQ(Total(down.shaded), all);
-  EXPECT_EQ(down.unseen_area, 0.0);
+  ASSERT_EQ(down.partial.size(), 1u);
+  EXPECT_EQ(Total(down.partial), all);
+  EXPECT_EQ(Total(down.shaded) + Total(down.unseen), 0u);
+  const PartialRun& patch = down.partial[0];
+  Eigen::Vector2d lo = {1, 1}, hi = {0, 0};
+  for (const GpuVertex& v : g.vertices) {
+    lo = lo.cwiseMin(Eigen::Vector2d(v.atlas_uv[0], v.atlas_uv[1]));
+    hi = hi.cwiseMax(Eigen::Vector2d(v.atlas_uv[0], v.atlas_uv[1]));
+  }
+  const double du = (patch.u1 - patch.u0) / (hi - lo).x(), dv = (patch.v1 - patch.v0) / (hi - lo).y();
+  EXPECT_NEAR(std::max(du, dv), 3.84 / 40.0, 0.01);
+  EXPECT_NEAR(std::min(du, dv), 2.88 / 40.0, 0.01);
+  const Eigen::Vector2d middle = (lo + hi) / 2;  // the point below the camera
+  EXPECT_TRUE(patch.u0 < middle.x() && middle.x() < patch.u1 && patch.v0 < middle.y() && middle.y() < patch.v1);
+  EXPECT_NEAR(down.unseen_area, 1.0 - du * dv, 1e-9);
   // From below it faces away.
   const ViewDraws below = Classify(g, ground, LookAt({0, -0.01, -3}, {0, 0, 0}));
   EXPECT_EQ(Total(below.unseen), all);
@@ -99,7 +120,9 @@ TEST(ViewCulling, GroundBehindOrBelowTheCameraIsUnseenAndGroundInViewShaded) {
   const Eigen::Matrix4d left = Eigen::Affine3d(Eigen::Translation3d(-60, 0, 0)).matrix() * ground;
   EXPECT_EQ(Total(Classify(g, left, LookAt({0, -30, 1}, {0, 60, 1})).unseen), all);
   const Eigen::Matrix4d edge = Eigen::Affine3d(Eigen::Translation3d(-20, 0, 0)).matrix() * ground;
-  EXPECT_EQ(Total(Classify(g, edge, LookAt({0, -30, 1}, {0, 60, 1})).shaded), all);
+  const ViewDraws straddling = Classify(g, edge, LookAt({0, -30, 1}, {0, 60, 1}));
+  EXPECT_EQ(Total(straddling.shaded) + Total(straddling.partial), all);
+  EXPECT_EQ(Total(straddling.unseen), 0u);
 }
 
 TEST(ViewCulling, CurvedFacesAreNeverTakenForBackFacing) {
