@@ -255,8 +255,19 @@ def analysis(res, by_name, rows):
                "cells out of view: lavapipe shades a 4×4 block on a triangle edge once for each triangle, so the "
                "grid's inner edges cost more than the culled cells saved (CPU ms per hypothesis, LP_NUM_THREADS=1, "
                "alternating builds on a busy machine: 49.7/50.1 before, 49.0/48.7 with the grid, 47.2/44.4 "
-               "without). Also tried and dropped earlier: testing the interior mask first and rejecting interior "
-               "texels by early depth test, `discard` for `return`, nearest-mip sampling.")
+               "without). Done (2026-11-27): a face of at least 2 % of the charts partly in view (the ground) is "
+               "drawn with the full shader only inside the atlas rectangle that holds what the frustum may see, by "
+               "scissor, and with weight 0 around it, bit-identical; on `house` the rectangle leaves out 10–18 % "
+               "of the ground's chart per camera (27 % of its texels lie outside each view: the rest is a "
+               "trapezoid's corners inside the rectangle). View pass 20.3 → 19.2 ms with LP_NUM_THREADS=1 "
+               "(medians of 4 alternations); with 2 threads the difference is inside the host's noise. Bands of "
+               "rows, each shaded over its own columns (up to 24 scissored draws per camera), left out more but "
+               "were not faster. Also tried and dropped: `texelFetch` for the depth map and `noperspective` "
+               "varyings (no measurable change, 2026-11-27); earlier, testing the interior mask first and "
+               "rejecting interior texels by early depth test, `discard` for `return`, nearest-mip sampling. A "
+               "nearest texel instead of the trilinear colour sample (wrong values, timing only) took the view "
+               "pass from 10.9 to 8.9 ms: the most the sample costs, not to be had without changing the "
+               "likelihood's prefiltering.")
     out.append("3. Interior pass (done: the positions in the candidate primitives' frames are interpolated from "
                "the vertices instead of a matrix per texel: 3.8 → 1.2 ms).")
     out.append(f"4. Composite over the charts only (done, issue 15): it visits only the workgroup tiles that touch a "
