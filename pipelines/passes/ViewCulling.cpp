@@ -97,6 +97,13 @@ bool ViewCulling::VisibleRect(const Cluster& cluster, const Eigen::Matrix4d& cli
   for (size_t t = 0; t + 2 < cluster.corners.size(); t += 3) {
     Eigen::Vector4d c[3];
     for (int j = 0; j < 3; ++j) c[j] = clip_from_node * cluster.corners[t + size_t(j)].homogeneous();
+    if (!(c[0].allFinite() && c[1].allFinite() && c[2].allFinite())) {
+      // A degenerate node matrix: what the shader makes of NaN is its own business, so the
+      // whole cluster is shaded, as Unseen() leaves it.
+      rect->indices = cluster.indices;
+      rect->u0 = cluster.uv_lo.x(), rect->v0 = cluster.uv_lo.y(), rect->u1 = cluster.uv_hi.x(), rect->v1 = cluster.uv_hi.y();
+      return true;
+    }
     double scale = near;
     for (const Eigen::Vector4d& p : c) scale = std::max({scale, std::abs(p.x()), std::abs(p.y()), std::abs(p.w())});
     const double m = 4.0 * kFrustumMargin * scale;

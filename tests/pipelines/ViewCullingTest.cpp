@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
+#include <cmath>
 
 #include "engine/geometry/Mesh.h"
 #include "pipelines/passes/Projection.h"
@@ -123,6 +124,12 @@ TEST(ViewCulling, GroundBehindOrBelowTheCameraIsUnseenAndGroundInViewShaded) {
   const ViewDraws straddling = Classify(g, edge, LookAt({0, -30, 1}, {0, 60, 1}));
   EXPECT_EQ(Total(straddling.shaded) + Total(straddling.partial), all);
   EXPECT_EQ(Total(straddling.unseen), 0u);
+  // A degenerate node matrix is shaded whole, as it was before culling.
+  Eigen::Matrix4d nan = ground;
+  nan(0, 0) = NAN;
+  const ViewDraws degenerate = Classify(g, nan, LookAt({0, -0.01, 3}, {0, 0, 0}));
+  EXPECT_EQ(Total(degenerate.shaded), all);
+  EXPECT_TRUE(degenerate.partial.empty());
 }
 
 TEST(ViewCulling, CurvedFacesAreNeverTakenForBackFacing) {
