@@ -408,14 +408,14 @@ ReconstructResult Reconstruct(const ReconstructOptions& options, vk::Device& dev
   }
   // The checkpoint's masks other than the final ones (the outputs', the checkpoint's) will
   // never be read again.
-  auto names = [](const nlohmann::json& calibration, const std::string& name) {
+  auto lists = [](const nlohmann::json& calibration, const std::string& name) {
     return calibration.is_object() && calibration.contains("clutter") &&
            std::count(calibration["clutter"]["files"].begin(), calibration["clutter"]["files"].end(), name) > 0;
   };
   if (fs::is_directory(options.output_dir / kCheckpointMasks))
     for (const auto& entry : fs::directory_iterator(options.output_dir / kCheckpointMasks)) {
       const std::string name = std::string(kCheckpointMasks) + "/" + entry.path().filename().string();
-      if (!names(summary.calibration, name) && !names(chains_calibration, name)) fs::remove(entry.path());
+      if (!lists(summary.calibration, name) && !lists(chains_calibration, name)) fs::remove(entry.path());
     }
   Evaluation at_map;
   const SurfaceDump dump = outputs.EvaluateAndDump(summary.map, &at_map);

@@ -58,8 +58,8 @@ struct ModeComparison {
 // The target's nuisances are then refitted at it (Target::RefitAt; summary's calibration
 // becomes the refit's, with the chains' κ), and the adopted MAP's log likelihood is the
 // target's own under them, so that what follows compares with it; the per-parameter
-// summaries other than "map" stay the chains'. A candidate outside the prior or of the wrong length, or a summary
-// without a MAP, is not scored.
+// summaries other than "map" stay the chains'. A candidate outside the prior or of the
+// wrong length, or a summary without a MAP, is not scored.
 ModeComparison AdoptIfHigher(const std::vector<ParameterSpec>& parameters, Target& target,
                              const std::vector<double>& candidate, SamplerSummary* summary);
 

@@ -129,7 +129,8 @@ void ViewTexturePass::record(VkCommandBuffer cmd, const ViewCamera& camera, cons
     auto draw_in = [&](VkPipeline pipeline, const VkRect2D& rect) {
       if (rect.extent.width == 0 || rect.extent.height == 0) return;
       vkCmdSetScissor(cmd, 0, 1, &rect);
-      draw(pipeline, {part.indices});
+      vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline);
+      vkCmdDrawIndexed(cmd, part.indices.count, 1, part.indices.first, 0, 0);
     };
     draw_in(shaded, inside);
     for (const VkRect2D& band : bands) draw_in(unseen_pipeline_, band);

@@ -42,8 +42,9 @@ class ViewTexturePass {
 
   // Renders into `target` (one layer of the view-texture array, COLOR_ATTACHMENT_OPTIMAL)
   // over [0, atlas_size)²: `draws.shaded` in full, `draws.unseen` as weight 0, `draws.partial`
-  // in full inside their rectangles and as weight 0 around them (ViewCulling.h). Texels outside every chart keep whatever they held (undefined) unless
-  // `clear` (for dumps) zeroes the layer first.
+  // in full inside their rectangles and as weight 0 around them (ViewCulling.h). Texels
+  // outside every chart keep whatever they held (undefined) unless `clear` (for dumps)
+  // zeroes the layer first.
   void record(VkCommandBuffer cmd, const ViewCamera& camera, const ViewDraws& draws, int binding, int slot,
               VkImageView target, uint32_t atlas_size, bool clear) const;
 
