@@ -144,30 +144,42 @@ Scalars CompositeTexel(uvec2 texel) {
       // under 0.3 %: docs/LIKELIHOOD.md.)
       expected = 3.0 * max(sw - spw / sp, 0.0);
       const float flat_top = kFlat * pc.outlier;
-      const float farthest = LossAtMean(texel, mean, chi2, outliers);
-      if (farthest > flat_top) {
-        for (uint round = 0u; round < kRounds; ++round) {
-          float closest = 3.0e38;
-          for (uint i = 0u; i < kViews; ++i) {
-            const View view = LoadView(texel, i);
-            const vec3 d = view.c - mean;
-            closest = min(closest, view.w > 0.0 ? dot(d, d) * view.r : 3.0e38);
-          }
-          const float base = max(closest, flat_top);
-          float rp = 0.0;
-          vec3 rpc = vec3(0.0);
-          for (uint i = 0u; i < kViews; ++i) {
-            const View view = LoadView(texel, i);
-            const vec3 d = view.c - mean;
-            const float omega = exp((base - max(dot(d, d) * view.r, flat_top)) / pc.outlier);
-            const float p = view.w > 0.0 ? omega * view.w * view.r : 0.0;
-            rp += p;
-            rpc += p * view.c;
-          }
-          mean = rpc / rp;
-        }
-        LossAtMean(texel, mean, chi2, outliers);
+      // The loss is the plain χ² while every view is within the flat top, so the first pass
+      // needs no exp. The reweighting runs as a loop of a run-time count, not under an `if`:
+      // lavapipe executes both sides of an `if` under a lane mask, but leaves a loop once no
+      // lane of the SIMD group goes on, so a group of texels whose views all agree pays one
+      // masked round instead of kRounds, and no texel pays the saturating loss twice (bit-
+      // identical to the loss computed at the plain mean; bench/RESULTS.md).
+      float farthest = 0.0;
+      for (uint i = 0u; i < kViews; ++i) {
+        const View view = LoadView(texel, i);
+        const vec3 d = view.c - mean;
+        const float e2 = view.w > 0.0 ? dot(d, d) * view.r : 0.0;
+        chi2 += view.w * e2;
+        farthest = max(farthest, e2);
       }
+      const uint rounds = farthest > flat_top ? kRounds : 0u;
+      for (uint round = 0u; round < rounds; ++round) {
+        float closest = 3.0e38;
+        for (uint i = 0u; i < kViews; ++i) {
+          const View view = LoadView(texel, i);
+          const vec3 d = view.c - mean;
+          closest = min(closest, view.w > 0.0 ? dot(d, d) * view.r : 3.0e38);
+        }
+        const float base = max(closest, flat_top);
+        float rp = 0.0;
+        vec3 rpc = vec3(0.0);
+        for (uint i = 0u; i < kViews; ++i) {
+          const View view = LoadView(texel, i);
+          const vec3 d = view.c - mean;
+          const float omega = exp((base - max(dot(d, d) * view.r, flat_top)) / pc.outlier);
+          const float p = view.w > 0.0 ? omega * view.w * view.r : 0.0;
+          rp += p;
+          rpc += p * view.c;
+        }
+        mean = rpc / rp;
+      }
+      if (rounds > 0u) LossAtMean(texel, mean, chi2, outliers);
       // Views that all disagree are one event, not many: the texel is not what the cameras
       // see (something the scene lacks stands on it). It costs one average view's
       // saturation beyond the expectation, so hiding it gains no more than that.
