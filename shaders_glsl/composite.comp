@@ -106,8 +106,12 @@ float LossAtMean(uvec2 texel, vec3 mean, out float chi2, out uint outliers) {
   return farthest;
 }
 
-Scalars CompositeTexel(uvec2 texel) {
+// One texel's scalars. `robust` (a constant at each call, so the compiler drops what it
+// skips): run the reweighting and the saturating loss; without it the loss is the plain χ²,
+// exact while every view lies within the flat top, and `needs_rounds` says where one does not.
+Scalars CompositeTexel(uvec2 texel, const bool robust, out bool needs_rounds) {
   Scalars mine = ZeroScalars();
+  needs_rounds = false;
   vec3 mean = vec3(0.0);
   float chi2 = 0.0, expected = 0.0, texture_share = 0.0;
   uint n = 0u, outliers = 0u, masked = 0u;
@@ -144,12 +148,6 @@ Scalars CompositeTexel(uvec2 texel) {
       // under 0.3 %: docs/LIKELIHOOD.md.)
       expected = 3.0 * max(sw - spw / sp, 0.0);
       const float flat_top = kFlat * pc.outlier;
-      // The loss is the plain χ² while every view is within the flat top, so the first pass
-      // needs no exp. The reweighting runs as a loop of a run-time count, not under an `if`:
-      // lavapipe executes both sides of an `if` under a lane mask, but leaves a loop once no
-      // lane of the SIMD group goes on, so a group of texels whose views all agree pays one
-      // masked round instead of kRounds, and no texel pays the saturating loss twice (bit-
-      // identical to the loss computed at the plain mean; bench/RESULTS.md).
       float farthest = 0.0;
       for (uint i = 0u; i < kViews; ++i) {
         const View view = LoadView(texel, i);
@@ -158,8 +156,8 @@ Scalars CompositeTexel(uvec2 texel) {
         chi2 += view.w * e2;
         farthest = max(farthest, e2);
       }
-      const uint rounds = farthest > flat_top ? kRounds : 0u;
-      for (uint round = 0u; round < rounds; ++round) {
+      needs_rounds = farthest > flat_top;
+      if (robust) for (uint round = 0u; round < kRounds; ++round) {
         float closest = 3.0e38;
         for (uint i = 0u; i < kViews; ++i) {
           const View view = LoadView(texel, i);
@@ -179,7 +177,7 @@ Scalars CompositeTexel(uvec2 texel) {
         }
         mean = rpc / rp;
       }
-      if (rounds > 0u) LossAtMean(texel, mean, chi2, outliers);
+      if (robust) LossAtMean(texel, mean, chi2, outliers);
       // Views that all disagree are one event, not many: the texel is not what the cameras
       // see (something the scene lacks stands on it). It costs one average view's
       // saturation beyond the expectation, so hiding it gains no more than that.
@@ -214,17 +212,56 @@ Scalars CompositeTexel(uvec2 texel) {
   return mine;
 }
 
+// Row r's sum_squares into a[r / 4][r % 4] (kRows <= 16), by selects: indexed at run time,
+// a float[kRows] went to lavapipe's per-lane scratch memory and cost the `house` composite
+// more than the robust pass saved.
+void KeepRow(inout vec4 a[4], uint r, float v) {
+  const uint q = r >> 2u, c = r & 3u;
+  const bvec4 put = equal(uvec4(0u, 1u, 2u, 3u), uvec4(c));
+  a[0] = q == 0u ? mix(a[0], vec4(v), put) : a[0];
+  a[1] = q == 1u ? mix(a[1], vec4(v), put) : a[1];
+  a[2] = q == 2u ? mix(a[2], vec4(v), put) : a[2];
+  a[3] = q == 3u ? mix(a[3], vec4(v), put) : a[3];
+}
+
 void main() {
   for (uint i = 0u; i < kViews; ++i) {
     gains[i] = photometric[2u * i];
     offsets[i] = photometric[2u * i + 1u];
   }
+  // Two passes over the column. lavapipe runs a shader's `if` under a lane mask, every
+  // branch for every SIMD group, but leaves a loop once no lane goes on; so the texels whose
+  // views do not all agree within the flat top (a few per column) are redone robustly in a
+  // loop of their own, instead of every texel paying for the rounds (house: composite 3.1 ->
+  // 2.7 ms, bench/RESULTS.md). Each texel's sum_squares is kept and added in row order at
+  // the end: bit-identical to one pass.
   Scalars mine = ZeroScalars();
   const uvec2 tile = tiles[pc.tile_offset + gl_WorkGroupID.x];
   const uint x = tile.x * gl_WorkGroupSize.x + gl_LocalInvocationID.x;
   const uint y0 = tile.y * kRows;
-  for (uint r = 0u; r < kRows; ++r)
-    if (x < pc.size && y0 + r < pc.size) mine = AddScalars(mine, CompositeTexel(uvec2(x, y0 + r)));
+  vec4 sum_squares[4];
+  for (uint k = 0u; k < 4u; ++k) sum_squares[k] = vec4(0.0);
+  uint pending = 0u;  // bit r: row r needs the robust pass
+  for (uint r = 0u; r < kRows; ++r) {
+    if (x < pc.size && y0 + r < pc.size) {
+      bool needs_rounds;
+      Scalars texel = CompositeTexel(uvec2(x, y0 + r), false, needs_rounds);
+      KeepRow(sum_squares, r, texel.sum_squares);
+      texel.sum_squares = 0.0;
+      mine = AddScalars(mine, texel);
+      pending |= needs_rounds ? 1u << r : 0u;
+    }
+  }
+  while (pending != 0u) {
+    const uint r = uint(findLSB(pending));
+    pending &= pending - 1u;
+    bool unused;
+    const Scalars texel = CompositeTexel(uvec2(x, y0 + r), true, unused);
+    KeepRow(sum_squares, r, texel.sum_squares);
+    mine.outlier_views += texel.outlier_views;
+  }
+  for (uint k = 0u; k < 4u; ++k)
+    for (uint c = 0u; c < 4u; ++c) mine.sum_squares += sum_squares[k][c];
   const Scalars total = ReduceSubgroup(mine);
   if (subgroupElect()) {
     partials[pc.partial_offset + gl_WorkGroupID.x] = total;
