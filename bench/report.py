@@ -144,6 +144,20 @@ def analysis(res, by_name, rows):
                "the loads with decoding 5.0 ms (variants that compute nothing else); the consensus and the loss "
                "the rest. Kept the views in registers for the reweighting rather than re-reading them; "
                "`[[unroll]]` and caching e² per round changed nothing measurable.")
+    out.append("  Two passes over each column (2026-11-27). llvmpipe runs both sides of an `if` under a lane mask "
+               "for every SIMD group, and leaves a loop only once no lane goes on (at least one pass through its "
+               "body), so the three reweighting rounds under `if (a view is beyond the flat top)` were paid by "
+               "every texel. Now a first pass scores every texel with the plain χ² (exact where every view lies "
+               "within the flat top, and no exp) and marks the others; a loop of its own redoes only those "
+               "robustly, as often as the SIMD group's lanes need it. The texels' sums are kept in registers by "
+               "selects and added in row order, so the results are bit-identical (Merton's likelihood sweeps at "
+               "levels 0 and 1 and its `--dump` byte-equal). `vkrecon bench --only house`, three binaries "
+               "alternating, 4 turns each, medians: composite 3.94 ms (one pass, rounds under the `if`) → 3.22 "
+               "(the rounds a loop of a per-texel count) → 2.68 (two passes); the row 58.83 → 61.71 → 64.67 "
+               "hypotheses/s, 32.18 → 30.09 → 28.80 CPU ms. Taken apart (timing-only variants, 3 turns): the "
+               "first pass alone 2.2 ms, the robust loop's one obligatory pass ~0.3 ms, its useful work ~0.2 ms. "
+               "A `float[16]` for the row sums, indexed at run time, went to per-lane scratch memory and cost "
+               "more than the second pass saved (3.1–3.7 ms), and unrolling the rows (constant indices) 4.2 ms.")
     red = ceilings.get("reduction_texels_per_s")
     if red:
         red_ms = house['atlas'] ** 2 / red * 1e3
@@ -235,12 +249,20 @@ def analysis(res, by_name, rows):
                "machine; this table's `house` row read 40.90 hypotheses/s and 45.31 CPU ms per hypothesis on "
                "2026-11-24 and 58.65 and 32.36 on 2026-11-27, when the noise study's runs, the same chains to the "
                "digit, took half the CPU seconds of 2026-11-25: mostly the host, not the code), so the margin "
-               "matters as much as the median, and a bar met on one day's host need not be met on the next.")
+               "matters as much as the median, and a bar met on one day's host need not be met on the next. "
+               "After the two-pass composite (2026-11-27, 03:34) this table read 63.17 hypotheses/s; three "
+               "`vkrecon bench --only house` runs straight after it read 59.45, 60.16 and 57.08 (median 59.45, "
+               "CPU ms 31.63, 30.27, 31.99), and three `--only batch` sweeps K16/K1 1.001, 1.005 and 1.014 (this "
+               "table's 0.973 is within that scatter): the bar is at the edge of what this host gives, not "
+               "clear of it.")
     out.append("")
     out.append("What was done and what would speed it further:")
     out.append("")
     out.append("1. Composite (done: subgroup sums, no barriers; the view count a specialisation constant, so the "
-               "loop unrolls: 6.0 → 4.6 ms). Reading the views from a storage buffer of packed halves instead of "
+               "loop unrolls: 6.0 → 4.6 ms; 2026-11-27, the robust rounds only for the texels that need them, in "
+               "a second pass: 3.94 → 2.68 ms, above). What is left beyond the first pass's 2.2 ms is the robust "
+               "loop's obligatory pass (~0.3 ms; two tiles per invocation would halve it) and its work (~0.2 ms): "
+               "15 % of this row's GPU time is about 2.3 ms. Reading the views from a storage buffer of packed halves instead of "
                "storage images was slower (8.4 against 6.1 ms, composite side alone), and so was `texelFetch` of "
                "the views and the mask as sampled images (9.0–10.4 against 6.1–7.0 ms, three alternations, "
                "2026-11-24). At the copy ceiling the "
