@@ -16,7 +16,7 @@ namespace {
 
 // Mirrors the push constants of shaders_glsl/composite.comp.
 struct CompositePush {
-  uint32_t size, partial_offset, write_images;
+  uint32_t size, partial_offset;
   float sigma2, delta2, outlier;
   uint32_t tile_offset;
 };
@@ -124,7 +124,8 @@ CompositePass::CompositePass(vk::Device& device, const std::vector<Inputs>& inpu
   }
 
   const vk::ShaderModule composite = vk::CreateShaderModule(device, kCompositeComp, sizeof(kCompositeComp));
-  composite_pipeline_ = CreateSubgroupComputePipeline(device, composite, composite_layout_, {view_count_});
+  composite_pipeline_ = CreateSubgroupComputePipeline(device, composite, composite_layout_, {view_count_, 0u});
+  dump_pipeline_ = CreateSubgroupComputePipeline(device, composite, composite_layout_, {view_count_, 1u});
 
   // The dump images live in GENERAL for the whole run.
   vk::CommandContext context(device);
@@ -165,12 +166,11 @@ void CompositePass::record(VkCommandBuffer cmd, int slot, int inputs, uint32_t l
   const double sigma = model.sigma / 255.0;
   const CompositePush push{level_size,
                            uint32_t(slot) * reduce_.partial_stride(),
-                           write_images ? 1u : 0u,
                            float(sigma * sigma),
                            float(model.position_sd * model.position_sd),
                            float(model.outlier_chi2),
                            tile_offset_[size_t(Level(level_size))]};
-  vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, composite_pipeline_);
+  vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, write_images ? dump_pipeline_ : composite_pipeline_);
   vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, composite_layout_, 0, 1,
                           &composite_sets_.at(size_t(inputs)), 0, nullptr);
   vkCmdPushConstants(cmd, composite_layout_, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(push), &push);

@@ -78,7 +78,8 @@ class CompositePass {
   vk::PipelineLayout composite_layout_;
   vk::DescriptorPool composite_pool_;
   std::vector<VkDescriptorSet> composite_sets_;  // one per input set
-  vk::Pipeline composite_pipeline_;
+  // The same shader with and without the dump images' stores (composite.comp kWriteImages).
+  vk::Pipeline composite_pipeline_, dump_pipeline_;
 };
 
 }  // namespace vkr
