@@ -13,6 +13,11 @@ layout(location = 3) flat in uint all_nodes;
 layout(location = 4) in vec3 local[kCandidates];
 layout(location = 0) out uint mask;
 
+// 0: no face of the hypothesis tests every node (InteriorPass picks the pipeline per slot),
+// and the search below is compiled out: lavapipe would run its loop's first pass under the
+// mask for every texel (a third of the house interior pass).
+layout(constant_id = 0) const uint kSearchAllNodes = 1u;
+
 const float kEps = 1e-3;  // in the other node's unit frame: "on the boundary" counts as inside
 const uint kPlane = 1u, kBox = 2u, kPrism = 3u, kCylinder = 4u;
 
@@ -28,7 +33,7 @@ bool Inside(uint k, vec3 p) {
 
 void main() {
   bool inside = false;
-  if (all_nodes != 0u) {
+  if (kSearchAllNodes != 0u && all_nodes != 0u) {
     for (uint n = 0u; n < pc.node_count && !inside; ++n)
       if (n != node) inside = Inside(kind[n], (node_from_world[pc.node_offset + n] * vec4(world, 1.0)).xyz);
   } else {

@@ -79,7 +79,11 @@ InteriorPass::InteriorPass(vk::Device& device, const Scene& scene, const SceneGe
   desc.layout = layout_;
   desc.colour_formats = {kFormat};
   desc.vertex_attributes = 0b01101;  // position, atlas_uv, node
+  desc.fragment_constants = {1u};
   pipeline_ = CreateGraphicsPipeline(device, desc);
+  desc.fragment_constants = {0u};
+  candidates_only_pipeline_ = CreateGraphicsPipeline(device, desc);
+  searches_all_nodes_.assign(size_t(gpu_scene.hypothesis_slots()), true);
 }
 
 void InteriorPass::SetNodeMatrices(int slot, const std::vector<Eigen::Matrix4d>& world_from_node) {
@@ -112,6 +116,7 @@ void InteriorPass::WriteCandidates(int slot, const std::vector<Eigen::Matrix4d>&
     if (HasVolume(kinds_host_[n]) && !degenerate[n]) volume[n] = WorldBox(world_from_node[n], unit_volume);
   }
   uint32_t* dst = candidates_.data<uint32_t>() + size_t(scene_->node_offset(slot)) * 8;
+  searches_all_nodes_.at(size_t(slot)) = false;
   for (int n = 0; n < nodes; ++n, dst += 8) {
     std::vector<uint32_t> found;
     if (!surface[n].isEmpty())
@@ -123,6 +128,7 @@ void InteriorPass::WriteCandidates(int slot, const std::vector<Eigen::Matrix4d>&
     std::fill(dst, dst + 8, 0u);
     if (int(found.size()) > kCandidates) {
       dst[4] = kAllNodes;
+      searches_all_nodes_[size_t(slot)] = true;
       continue;
     }
     std::copy(found.begin(), found.end(), dst);
@@ -136,7 +142,8 @@ void InteriorPass::record(VkCommandBuffer cmd, int slot, const vk::GpuImage& mas
   // Cleared: texels outside every chart must read 0 (no surface) in the composite.
   BeginRendering(cmd, atlas_size, atlas_size, mask.view(), VkClearColorValue{{0.0f, 0.0f, 0.0f, 0.0f}},
                  VK_NULL_HANDLE);
-  vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline_);
+  vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS,
+                    searches_all_nodes_.at(size_t(slot)) ? pipeline_ : candidates_only_pipeline_);
   vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_, 0, 1, &set_, 0, nullptr);
   vkCmdPushConstants(cmd, layout_, VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0,
                      sizeof(InteriorPush), &push);

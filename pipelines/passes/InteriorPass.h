@@ -39,7 +39,11 @@ class InteriorPass {
   vk::PipelineLayout layout_;
   vk::DescriptorPool pool_;
   VkDescriptorSet set_ = VK_NULL_HANDLE;
-  vk::Pipeline pipeline_;
+  // With and without the fragment stage's search over every node (interior.frag
+  // kSearchAllNodes): per slot, whether any node of its hypothesis has more candidates than
+  // the vertices carry (set by SetNodeMatrices; recorded draws must follow it).
+  vk::Pipeline pipeline_, candidates_only_pipeline_;
+  std::vector<bool> searches_all_nodes_;
 };
 
 }  // namespace vkr
