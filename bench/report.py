@@ -157,7 +157,11 @@ def analysis(res, by_name, rows):
                "hypotheses/s, 32.18 → 30.09 → 28.80 CPU ms. Taken apart (timing-only variants, 3 turns): the "
                "first pass alone 2.2 ms, the robust loop's one obligatory pass ~0.3 ms, its useful work ~0.2 ms. "
                "A `float[16]` for the row sums, indexed at run time, went to per-lane scratch memory and cost "
-               "more than the second pass saved (3.1–3.7 ms), and unrolling the rows (constant indices) 4.2 ms.")
+               "more than the second pass saved (3.1–3.7 ms), and unrolling the rows (constant indices) 4.2 ms. "
+               "For the same reason the dump images' three `imageStore`s, behind a push constant that is 0 in "
+               "every evaluation, cost their lane loops under the mask: behind a specialisation constant instead "
+               "(a second pipeline, used only for `--dump` and a run's outputs) the composite went 2.62 → 2.04 ms "
+               "and the row 65.09 → 68.06 hypotheses/s (3 alternations, medians; bit-identical, dumps included).")
     red = ceilings.get("reduction_texels_per_s")
     if red:
         red_ms = house['atlas'] ** 2 / red * 1e3
@@ -250,19 +254,20 @@ def analysis(res, by_name, rows):
                "2026-11-24 and 58.65 and 32.36 on 2026-11-27, when the noise study's runs, the same chains to the "
                "digit, took half the CPU seconds of 2026-11-25: mostly the host, not the code), so the margin "
                "matters as much as the median, and a bar met on one day's host need not be met on the next. "
-               "After the two-pass composite (2026-11-27, 03:34) this table read 63.17 hypotheses/s; three "
-               "`vkrecon bench --only house` runs straight after it read 59.45, 60.16 and 57.08 (median 59.45, "
-               "CPU ms 31.63, 30.27, 31.99), and three `--only batch` sweeps K16/K1 1.001, 1.005 and 1.014 (this "
-               "table's 0.973 is within that scatter): the bar is at the edge of what this host gives, not "
-               "clear of it.")
+               "After the composite and interior changes of 2026-11-27 this table read 68.96 hypotheses/s (04:00); "
+               "three `vkrecon bench --only house` runs straight after it read 62.37, 66.64 and 57.33 (median "
+               "62.37; CPU ms 29.08, 28.18, 32.20; the composite 13–14 % of the GPU time in each), and three "
+               "`--only batch` sweeps K16/K1 1.000, 1.025 and 0.969: the rate's bar is met by the median with "
+               "one reading of three below it, and batching's is a coin toss on this device, where a submission "
+               "costs nothing next to a hypothesis.")
     out.append("")
     out.append("What was done and what would speed it further:")
     out.append("")
     out.append("1. Composite (done: subgroup sums, no barriers; the view count a specialisation constant, so the "
                "loop unrolls: 6.0 → 4.6 ms; 2026-11-27, the robust rounds only for the texels that need them, in "
-               "a second pass: 3.94 → 2.68 ms, above). What is left beyond the first pass's 2.2 ms is the robust "
-               "loop's obligatory pass (~0.3 ms; two tiles per invocation would halve it) and its work (~0.2 ms): "
-               "15 % of this row's GPU time is about 2.3 ms. Reading the views from a storage buffer of packed halves instead of "
+               "a second pass, and the dump stores compiled out: 3.94 → 2.04 ms, above). Of what is left, the "
+               "robust loop's obligatory pass took ~0.3 ms when measured (two tiles per invocation would halve "
+               "it), its work ~0.2 ms, the rest is the first pass: the image loads and the plain statistic. Reading the views from a storage buffer of packed halves instead of "
                "storage images was slower (8.4 against 6.1 ms, composite side alone), and so was `texelFetch` of "
                "the views and the mask as sampled images (9.0–10.4 against 6.1–7.0 ms, three alternations, "
                "2026-11-24). At the copy ceiling the "
@@ -291,7 +296,10 @@ def analysis(res, by_name, rows):
                "pass from 10.9 to 8.9 ms: the most the sample costs, not to be had without changing the "
                "likelihood's prefiltering.")
     out.append("3. Interior pass (done: the positions in the candidate primitives' frames are interpolated from "
-               "the vertices instead of a matrix per texel: 3.8 → 1.2 ms).")
+               "the vertices instead of a matrix per texel: 3.8 → 1.2 ms; 2026-11-27, a second pipeline without the "
+               "fragment stage's search over every node, for hypotheses where no node has more than four candidate "
+               "volumes: lavapipe ran that loop's first pass under the mask for every texel, 0.82 → 0.54 ms, 3 "
+               "alternations, bit-identical).")
     out.append(f"4. Composite over the charts only (done, issue 15): it visits only the workgroup tiles that touch a "
                f"chart instead of all {house['atlas']}² = {house['atlas'] ** 2 / 1e3:.0f} k atlas texels "
                f"({house['surface_texels'] / 1e3:.0f} k lie on the surface); about a fifth less composite time "
