@@ -109,16 +109,16 @@ float LossAtMean(uvec2 texel, vec3 mean, out float chi2, out uint outliers) {
   return farthest;
 }
 
-// One texel's scalars. `robust` (a constant at each call, so the compiler drops what it
-// skips): run the reweighting and the saturating loss; without it the loss is the plain χ²,
-// exact while every view lies within the flat top, and `needs_rounds` says where one does not.
-Scalars CompositeTexel(uvec2 texel, const bool robust, out bool needs_rounds) {
+// One texel's scalars; `m` is its interior-mask value (0 no surface, 1 exterior, 2 interior).
+// `robust` (a constant at each call, so the compiler drops what it skips): run the
+// reweighting and the saturating loss; without it the loss is the plain χ², exact while every
+// view lies within the flat top, and `needs_rounds` says where one does not.
+Scalars CompositeTexel(uvec2 texel, uint m, const bool robust, out bool needs_rounds) {
   Scalars mine = ZeroScalars();
   needs_rounds = false;
   vec3 mean = vec3(0.0);
   float chi2 = 0.0, expected = 0.0, texture_share = 0.0;
   uint n = 0u, outliers = 0u, masked = 0u;
-  const uint m = imageLoad(mask, ivec2(texel)).r;
   if (m == 2u) {
     mine.interior = 1u;
   } else if (m == 1u) {
@@ -245,21 +245,35 @@ void main() {
   vec4 sum_squares[4];
   for (uint k = 0u; k < 4u; ++k) sum_squares[k] = vec4(0.0);
   uint pending = 0u;  // bit r: row r needs the robust pass
+  // The rows' mask values, 2 bits each, and the rows to visit: the exterior surface texels
+  // (for dumps every texel, whose images show the interior too); interior texels are only
+  // counted. A loop over the visited rows leaves the rows off the surface out where no lane
+  // of the SIMD group needs them (house composite −6 %); their terms were zero, so the sums
+  // are as before.
+  uint marks = 0u, visit = 0u;
   for (uint r = 0u; r < kRows; ++r) {
     if (x < pc.size && y0 + r < pc.size) {
-      bool needs_rounds;
-      Scalars texel = CompositeTexel(uvec2(x, y0 + r), false, needs_rounds);
-      KeepRow(sum_squares, r, texel.sum_squares);
-      texel.sum_squares = 0.0;
-      mine = AddScalars(mine, texel);
-      pending |= needs_rounds ? 1u << r : 0u;
+      const uint m = imageLoad(mask, ivec2(x, y0 + r)).r;
+      marks |= (m & 3u) << (2u * r);
+      visit |= kWriteImages != 0u || m == 1u ? 1u << r : 0u;
+      mine.interior += kWriteImages == 0u && m == 2u ? 1u : 0u;
     }
+  }
+  while (visit != 0u) {
+    const uint r = uint(findLSB(visit));
+    visit &= visit - 1u;
+    bool needs_rounds;
+    Scalars texel = CompositeTexel(uvec2(x, y0 + r), (marks >> (2u * r)) & 3u, false, needs_rounds);
+    KeepRow(sum_squares, r, texel.sum_squares);
+    texel.sum_squares = 0.0;
+    mine = AddScalars(mine, texel);
+    pending |= needs_rounds ? 1u << r : 0u;
   }
   while (pending != 0u) {
     const uint r = uint(findLSB(pending));
     pending &= pending - 1u;
     bool unused;
-    const Scalars texel = CompositeTexel(uvec2(x, y0 + r), true, unused);
+    const Scalars texel = CompositeTexel(uvec2(x, y0 + r), 1u, true, unused);
     KeepRow(sum_squares, r, texel.sum_squares);
     mine.outlier_views += texel.outlier_views;
   }
