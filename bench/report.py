@@ -163,7 +163,10 @@ def analysis(res, by_name, rows):
                "(a second pipeline, used only for `--dump` and a run's outputs) the composite went 2.62 → 2.04 ms "
                "and the row 65.09 → 68.06 hypotheses/s (3 alternations, medians; bit-identical, dumps included). "
                "And the first pass now loops over a column's exterior surface rows only (the mask read first), so "
-               "rows off the charts or interior are skipped where no lane needs them: about 2.1 → 2.0 ms.")
+               "rows off the charts or interior are skipped where no lane needs them: about 2.1 → 2.0 ms. The "
+               "session's first binary against the last, alternating, 4 turns each: composite 4.02 → 1.92 ms, "
+               "interior 0.88 → 0.57 ms, the row 55.65 → 64.50 hypotheses/s and 33.96 → 28.93 CPU ms (a busy "
+               "hour; medians).")
     red = ceilings.get("reduction_texels_per_s")
     if red:
         red_ms = house['atlas'] ** 2 / red * 1e3
@@ -256,12 +259,12 @@ def analysis(res, by_name, rows):
                "2026-11-24 and 58.65 and 32.36 on 2026-11-27, when the noise study's runs, the same chains to the "
                "digit, took half the CPU seconds of 2026-11-25: mostly the host, not the code), so the margin "
                "matters as much as the median, and a bar met on one day's host need not be met on the next. "
-               "After the composite and interior changes of 2026-11-27 this table read 68.96 hypotheses/s (04:00); "
-               "three `vkrecon bench --only house` runs straight after it read 62.37, 66.64 and 57.33 (median "
-               "62.37; CPU ms 29.08, 28.18, 32.20; the composite 13–14 % of the GPU time in each), and three "
-               "`--only batch` sweeps K16/K1 1.000, 1.025 and 0.969: the rate's bar is met by the median with "
-               "one reading of three below it, and batching's is a coin toss on this device, where a submission "
-               "costs nothing next to a hypothesis.")
+               "After the composite and interior changes of 2026-11-27 this table read 67.15 hypotheses/s (04:47); "
+               "three `vkrecon bench --only house` runs straight after it read 66.17, 71.04 and 69.76 (median "
+               "69.76; CPU ms 28.25, 26.42, 26.73; the composite 13 % of the GPU time in each), and three "
+               "`--only batch` sweeps K16/K1 1.012, 1.026 and 1.026 (an hour earlier, with the same shaders but "
+               "the last composite change: 62.37, 66.64, 57.33 and 1.000, 1.025, 0.969). Batching's bar stays a "
+               "coin toss on this device, where a submission costs nothing next to a hypothesis.")
     out.append("")
     out.append("What was done and what would speed it further:")
     out.append("")
