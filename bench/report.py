@@ -262,7 +262,7 @@ def analysis(res, by_name, rows):
                "After the composite and interior changes of 2026-11-27 this table read 67.15 hypotheses/s (04:47); "
                "three `vkrecon bench --only house` runs straight after it read 66.17, 71.04 and 69.76 (median "
                "69.76; CPU ms 28.25, 26.42, 26.73; the composite 13 % of the GPU time in each), and three "
-               "`--only batch` sweeps K16/K1 1.012, 1.026 and 1.026 (an hour earlier, with the same shaders but "
+               "`--only batch` sweeps K16/K1 1.012, 1.026 and 1.026 (an hour earlier, with the same shaders but for "
                "the last composite change: 62.37, 66.64, 57.33 and 1.000, 1.025, 0.969). Batching's bar stays a "
                "coin toss on this device, where a submission costs nothing next to a hypothesis.")
     out.append("")
