@@ -299,7 +299,12 @@ def analysis(res, by_name, rows):
                "rejecting interior texels by early depth test, `discard` for `return`, nearest-mip sampling. A "
                "nearest texel instead of the trilinear colour sample (wrong values, timing only) took the view "
                "pass from 10.9 to 8.9 ms: the most the sample costs, not to be had without changing the "
-               "likelihood's prefiltering.")
+               "likelihood's prefiltering. Where a camera has a mask (a user's, the clutter a run finds, a lens "
+               "border) the pass reads the validity mips too, a second trilinear sample per texel: "
+               "crate_clutter at its run's MAP with a mask on every camera, `vkrecon likelihood --profile`, view "
+               "pass 6.2 → 8.3 ms (2026-11-27). Faces whose projection lies far from every masked pixel would "
+               "read 1.0 there, so a host-side test against an integral image of the masked pixels (dilated by the "
+               "sample's footprint) could draw them with the pipeline that skips it, bit-identically: not done.")
     out.append("3. Interior pass (done: the positions in the candidate primitives' frames are interpolated from "
                "the vertices instead of a matrix per texel: 3.8 → 1.2 ms; 2026-11-27, a second pipeline without the "
                "fragment stage's search over every node, for hypotheses where no node has more than four candidate "
