@@ -92,21 +92,17 @@ float Loss(float e2) {
   return e2 <= t ? e2 : t + s * (1.0 - exp((t - e2) / s));
 }
 
-// Σ w_i ρ(e²_i) at consensus `mean`, the number of outlier views (e² > K); returns the
-// largest e²_i.
-float LossAtMean(uvec2 texel, vec3 mean, out float chi2, out uint outliers) {
+// Σ w_i ρ(e²_i) at consensus `mean`, and the number of outlier views (e² > K).
+void LossAtMean(uvec2 texel, vec3 mean, out float chi2, out uint outliers) {
   chi2 = 0.0;
   outliers = 0u;
-  float farthest = 0.0;
   for (uint i = 0u; i < kViews; ++i) {
     const View view = LoadView(texel, i);
     const vec3 d = view.c - mean;
     const float e2 = view.w > 0.0 ? dot(d, d) * view.r : 0.0;
     chi2 += view.w * Loss(e2);
     outliers += e2 > pc.outlier ? 1u : 0u;
-    farthest = max(farthest, e2);
   }
-  return farthest;
 }
 
 // One texel's scalars; `m` is its interior-mask value (0 no surface, 1 exterior, 2 interior).
