@@ -72,15 +72,22 @@ std::vector<uint8_t> ReadBytes(const std::filesystem::path& file, FILE* f,
                  (reason ? reason : "unknown error") + ")");
 }
 
-// stb_image 2.27 (Debian 12) builds a JPEG Huffman table before checking that the DHT
-// segment declares at most 256 codes, and writes past the table's arrays when it declares
-// more (fuzz_image found it; stb 2.28 checks). The tables are checked here first, walking
-// the file as stb does: a marker is 0xFF and a byte other than 0x00 (stuffed), 0xFF (fill)
-// or a restart; anything else, such as entropy-coded data, is passed over byte by byte;
-// a segment is as long as its length field says (stb fails where it is not, so walking on
-// checks more than stb reads, never less), except that DHT tables are read while the
-// length has bytes left, even past the end of the file (where stb reads zeros).
+// Two faults of stb_image 2.27 (Debian 12) in JPEG Huffman tables, found by fuzz_image (stb
+// 2.28 checks both): it builds a table before checking that the DHT segment declares at
+// most 256 codes, and writes past the table's arrays when it declares more; and it decodes a
+// scan with whatever table its selectors name, defined or not, reading an undefined table's
+// uninitialised memory as indices (out of bounds: a crash or garbage). Both are checked here
+// first, walking the file as stb does: a marker is 0xFF and a byte other than 0x00
+// (stuffed), 0xFF (fill) or a restart; anything else, such as entropy-coded data, is passed
+// over byte by byte; a segment is as long as its length field says (stb fails where it is
+// not, so walking on checks more than stb reads, never less), except that DHT tables are
+// read while the length has bytes left, even past the end of the file (where stb reads
+// zeros). A scan uses, per component, its DC table unless it only refines DC bits or codes
+// AC coefficients (progressive), and its AC table unless it codes DC only.
 void CheckJpegHuffmanTables(const std::filesystem::path& file, const std::vector<uint8_t>& bytes) {
+  bool defined[2][4] = {};  // [class: 0 DC, 1 AC][table id]
+  bool progressive = false;
+  int scan = 0;
   size_t pos = 2;  // after SOI
   while (pos + 1 < bytes.size()) {
     const uint8_t marker = bytes[pos + 1];
@@ -94,6 +101,26 @@ void CheckJpegHuffmanTables(const std::filesystem::path& file, const std::vector
     }
     if (marker == 0xD9 || pos + 3 >= bytes.size()) return;  // EOI, or the file ends
     const size_t length = size_t(bytes[pos + 2]) << 8 | bytes[pos + 3];
+    if (marker == 0xC2) progressive = true;  // SOF2, the one progressive frame stb reads
+    if (marker == 0xDA) {  // SOS: count, per component its id and DC << 4 | AC, then Ss, Se, Ah << 4 | Al
+      ++scan;
+      const auto byte = [&](size_t i) -> uint8_t { return i < bytes.size() ? bytes[i] : 0; };  // stb: 0 past the end
+      const size_t count = byte(pos + 4), spectral = pos + 5 + 2 * count;
+      const bool dc_only = byte(spectral) == 0;
+      const bool uses_dc = !progressive || (dc_only && (byte(spectral + 2) >> 4) == 0);
+      const bool uses_ac = !progressive || !dc_only;
+      const auto require = [&](bool used, int table_class, int id) {
+        if (used && id <= 3 && !defined[table_class][id])  // ids above 3: stb refuses them
+          Fail(file, "corrupt JPEG: scan " + std::to_string(scan) + " uses Huffman table " +
+                         (table_class == 0 ? "DC " : "AC ") + std::to_string(id) +
+                         ", which no DHT segment before it defines");
+      };
+      for (size_t c = 0; c < count && c < 4; ++c) {  // more than 4: stb refuses the scan
+        const uint8_t tables = byte(pos + 6 + 2 * c);
+        require(uses_dc, 0, tables >> 4);
+        require(uses_ac, 1, tables & 15);
+      }
+    }
     if (marker != 0xC4) {
       pos += 2 + length;
       continue;
@@ -101,6 +128,8 @@ void CheckJpegHuffmanTables(const std::filesystem::path& file, const std::vector
     long left = long(length) - 2;
     pos += 4;
     while (left > 0 && pos < bytes.size()) {
+      const int table_class = bytes[pos] >> 4, id = bytes[pos] & 15;
+      if (table_class <= 1 && id <= 3) defined[table_class][id] = true;  // stb refuses others
       size_t codes = 0;  // stb reads 0 past the end of the file
       for (size_t i = pos + 1; i <= pos + 16 && i < bytes.size(); ++i) codes += bytes[i];
       if (codes > 256)

@@ -2,8 +2,10 @@
 // crash (DESIGN.md).
 
 #include <gtest/gtest.h>
+#include <stb/stb_image_write.h>
 
 #include <string>
+#include <vector>
 
 #include "engine/image/Image.h"
 #include "tests/common/TestFiles.h"
@@ -60,6 +62,28 @@ TEST(ImageErrors, TruncatedPng) {
   EXPECT_EQ(w, 64);
   test::WriteText(dir / "stub.png", bytes.substr(0, 12));
   ExpectUnreadable(dir / "stub.png", "stb: ");
+}
+
+// stb_image 2.27 decodes a scan with whatever Huffman table its selectors name, reading an
+// undefined one's uninitialised memory as indices (tests/fuzz/regressions/image): such a
+// file is refused, naming the table, before stb sees it. The same file with the selector as
+// it was loads.
+TEST(ImageErrors, JpegScanWithAnUndefinedHuffmanTable) {
+  TempDir dir;
+  const int w = 16, h = 16;
+  std::vector<unsigned char> rgb(size_t(w) * h * 3);
+  for (size_t i = 0; i < rgb.size(); ++i) rgb[i] = (unsigned char)(i * 7);
+  ASSERT_TRUE(stbi_write_jpg((dir / "good.jpg").c_str(), w, h, 3, rgb.data(), 90));
+  std::string bytes = test::ReadText(dir / "good.jpg");
+  const size_t sos = bytes.find("\xFF\xDA");
+  ASSERT_NE(sos, std::string::npos);
+  // SOS: marker, length (2), component count, then per component its id and DC << 4 | AC.
+  ASSERT_GE(uint8_t(bytes[sos + 4]), 1);
+  const uint8_t tables = uint8_t(bytes[sos + 6]);
+  EXPECT_EQ(LoadImage(dir / "good.jpg").width, w);
+  bytes[sos + 6] = char((tables & 0xF0) | 2);  // AC table 2: stb writes tables 0 and 1 only
+  test::WriteText(dir / "bad.jpg", bytes);
+  ExpectUnreadable(dir / "bad.jpg", "corrupt JPEG: scan 1 uses Huffman table AC 2, which no DHT segment before it defines");
 }
 
 TEST(ImageErrors, UnwritableOutputPaths) {
