@@ -278,21 +278,21 @@ void ReadImageSize(const std::filesystem::path& file, int* width, int* height) {
     return;
   }
   RequirePngOrJpeg(file, head);
+  // From memory, never stbi_info_from_file: once stb has refilled its file buffer it cannot
+  // rewind to the file's start, so when a PNG's header did not satisfy it, it tried the
+  // other formats on bytes from the middle of the file (fuzz_image found a PNM reading of
+  // them overflowing an int). A PNG's header (IHDR; for a palette, the chunks up to the
+  // first IDAT) is nearly always in `head`; where it is not, the whole file is read.
   int comp = 0;
-  if (IsJpeg(head)) {
-    // stb reads a JPEG's Huffman tables on its way to the size (they may come first), so
-    // they are checked here too, in the whole file: the headers may be longer than `head`.
-    std::vector<uint8_t> bytes = head;
-    const std::vector<uint8_t> rest = ReadBytes(file, f.get());
-    bytes.insert(bytes.end(), rest.begin(), rest.end());
-    if (bytes.size() > size_t(INT_MAX)) Fail(file, "file is too large for stb_image (> 2 GiB)");
-    CheckJpegHuffmanTables(file, bytes);
-    if (!stbi_info_from_memory(bytes.data(), int(bytes.size()), width, height, &comp)) FailStb(file);
-    return;
-  }
-  // stb reads only as far as the size: the IHDR chunk of a PNG.
-  std::rewind(f.get());
-  if (!stbi_info_from_file(f.get(), width, height, &comp)) FailStb(file);
+  if (!IsJpeg(head) && stbi_info_from_memory(head.data(), int(head.size()), width, height, &comp)) return;
+  std::vector<uint8_t> bytes = head;
+  const std::vector<uint8_t> rest = ReadBytes(file, f.get());
+  bytes.insert(bytes.end(), rest.begin(), rest.end());
+  if (bytes.size() > size_t(INT_MAX)) Fail(file, "file is too large for stb_image (> 2 GiB)");
+  // stb reads a JPEG's Huffman tables on its way to the size (they may come first), so they
+  // are checked here too, in the whole file: the headers may be longer than `head`.
+  if (IsJpeg(bytes)) CheckJpegHuffmanTables(file, bytes);
+  if (!stbi_info_from_memory(bytes.data(), int(bytes.size()), width, height, &comp)) FailStb(file);
 }
 
 void WritePng(const std::filesystem::path& file, const Image& image) {

@@ -3,7 +3,9 @@
 // would, and a mistyped key is caught as an unknown key.
 
 #include <cctype>
+#include <charconv>
 #include <filesystem>
+#include <system_error>
 
 #include "engine/common/InputError.h"
 #include "engine/scene/SceneJson.h"
@@ -37,7 +39,10 @@ std::vector<Step> SplitPath(const std::string& path, const std::string& display)
       const std::string digits = path.substr(i + 1, close - i - 1);
       for (char c : digits)
         if (!std::isdigit(static_cast<unsigned char>(c))) fail("index [" + digits + "] is not a number");
-      steps.push_back({"", std::stol(digits)});
+      long index = 0;
+      const auto parsed = std::from_chars(digits.data(), digits.data() + digits.size(), index);
+      if (parsed.ec != std::errc()) fail("index [" + digits + "] is out of range");  // stol threw here (fuzz_scene_json)
+      steps.push_back({"", index});
       i = close + 1;
     }
     if (i < path.size()) {
