@@ -92,8 +92,8 @@ TEST(Override, BadPaths) {
                         {"likelihood..sigma", "bad --set path"}));
   EXPECT_TRUE(FailsWith([&] { LoadScene(file, {{"", "1"}}); }, {"bad --set path"}));
   EXPECT_TRUE(FailsWith([&] { LoadScene(file, {{"nodes[x]", "1"}}); }, {"bad --set path"}));
-  // An index too large for a long: std::stol threw std::out_of_range through every handler
-  // (fuzz_scene_json found it).
+  // An index too large for a long: std::stol threw std::out_of_range, not an InputError, and
+  // the command line said only "error: stol" (fuzz_scene_json found it).
   EXPECT_TRUE(FailsWith([&] { LoadScene(file, {{"nodes[18888888888888888888888].primitive", "box"}}); },
                         {"bad --set path", "index [18888888888888888888888] is out of range"}));
   EXPECT_TRUE(FailsWith([&] { LoadScene(file, {{"nodes[9223372036854775807].primitive", "box"}}); },
