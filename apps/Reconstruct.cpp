@@ -24,6 +24,7 @@
 #include "engine/geometry/SceneGeometry.h"
 #include "optimiser/Polish.h"
 #include "optimiser/Sampler.h"
+#include "optimiser/SamplerState.h"  // ReadInteger
 #include "pipelines/likelihood/LikelihoodTool.h"
 #include "pipelines/rendering/ModelExport.h"
 #include "pipelines/likelihood/NoiseCalibration.h"
@@ -156,7 +157,7 @@ nlohmann::json StartJson(const opt::MapSearchSummary& s) {
 opt::MapSearchSummary StartFromJson(const nlohmann::json& j) {
   opt::MapSearchSummary s;
   s.ok = true;
-  s.evaluations = j.at("evaluations").get<int64_t>();
+  s.evaluations = opt::detail::ReadInteger<int64_t>(j.at("evaluations"));
   s.cost = j.at("cost").get<double>();
   s.map = j.at("map").get<std::vector<double>>();
   if (!j.at("log_posterior").is_null()) s.log_posterior = j.at("log_posterior").get<double>();

@@ -157,7 +157,7 @@ State StateFromJson(const json& j) {
   try {
     if (!j.is_object() || j.value("format", "") != kFormat)
       throw std::invalid_argument("not a sampler checkpoint");
-    if (j.at("version").get<int>() != kVersion)
+    if (ReadInteger<int>(j.at("version")) != kVersion)
       throw std::invalid_argument("unsupported version " + j.at("version").dump());
     State s;
     std::string why;
@@ -169,13 +169,13 @@ State StateFromJson(const json& j) {
     }
     if (!IsValid(s.parameters, &why)) throw std::invalid_argument(why);
     const int d = s.dimension();
-    s.target_levels = j.at("target_levels").get<int>();
+    s.target_levels = ReadInteger<int>(j.at("target_levels"));
     if (!FromString(j.at("phase").get<std::string>(), &s.phase))
       throw std::invalid_argument("unknown phase");
-    s.frame = j.at("frame").get<int64_t>();
-    s.evaluations = j.at("evaluations").get<int64_t>();
-    s.iteration = j.at("iteration").get<int>();
-    s.level = j.at("level").get<int>();
+    s.frame = ReadInteger<int64_t>(j.at("frame"));
+    s.evaluations = ReadInteger<int64_t>(j.at("evaluations"));
+    s.iteration = ReadInteger<int>(j.at("iteration"));
+    s.level = ReadInteger<int>(j.at("level"));
     if (s.iteration < 0 || s.iteration > s.options.iterations || s.level < 0 ||
         s.level >= s.target_levels)
       throw std::invalid_argument("iteration or level out of range");
@@ -186,8 +186,8 @@ State StateFromJson(const json& j) {
       ChainState c;
       if (!c.rng.SetState(jc.at("rng").get<std::string>()))
         throw std::invalid_argument("unreadable RNG state");
-      c.swap_attempts = jc.at("swap_attempts").get<std::vector<int64_t>>();
-      c.swap_accepts = jc.at("swap_accepts").get<std::vector<int64_t>>();
+      c.swap_attempts = ReadIntegers<int64_t>(jc.at("swap_attempts"));
+      c.swap_accepts = ReadIntegers<int64_t>(jc.at("swap_accepts"));
       const json& replicas = jc.at("replicas");
       if (int(replicas.size()) != s.options.temperatures ||
           int(c.swap_attempts.size()) != s.options.temperatures - 1 ||
@@ -198,10 +198,10 @@ State StateFromJson(const json& j) {
         r.psi = ReadPsi(jr.at("psi"), d);
         r.log_prior = ReadNumber(jr.at("log_prior"));
         r.log_likelihood = ReadNumber(jr.at("log_likelihood"));
-        r.proposed = jr.at("proposed").get<int64_t>();
-        r.accepted = jr.at("accepted").get<int64_t>();
+        r.proposed = ReadInteger<int64_t>(jr.at("proposed"));
+        r.accepted = ReadInteger<int64_t>(jr.at("accepted"));
         r.log_scale = ReadNumber(jr.at("log_scale"));
-        r.adapt_count = jr.at("adapt_count").get<int64_t>();
+        r.adapt_count = ReadInteger<int64_t>(jr.at("adapt_count"));
         r.adapt_mean = ReadVector(jr.at("adapt_mean"), d);
         r.adapt_scatter = ReadMatrix(jr.at("adapt_scatter"), d);
         c.replicas.push_back(std::move(r));
@@ -211,7 +211,7 @@ State StateFromJson(const json& j) {
 
     const json& best = j.at("best");
     s.best.valid = best.at("valid").get<bool>();
-    s.best.level = best.at("level").get<int>();
+    s.best.level = ReadInteger<int>(best.at("level"));
     s.best.psi = ReadNumbers(best.at("psi"));
     if (s.best.valid && int(s.best.psi.size()) != d) throw std::invalid_argument("best: wrong size");
     s.best.log_prior = ReadNumber(best.at("log_prior"));
@@ -227,7 +227,7 @@ State StateFromJson(const json& j) {
 
     const json& jr = j.at("refine");
     RefineState& r = s.refine;
-    r.step = jr.at("step").get<int>();
+    r.step = ReadInteger<int>(jr.at("step"));
     r.have_point = jr.at("have_point").get<bool>();
     r.psi = ReadNumbers(jr.at("psi"));
     r.log_prior = ReadNumber(jr.at("log_prior"));
@@ -237,7 +237,7 @@ State StateFromJson(const json& j) {
     r.step_scale = ReadNumber(jr.at("step_scale"));
     if (!jr.at("inverse_hessian").empty()) r.inverse_hessian = ReadMatrix(jr.at("inverse_hessian"), d);
     const json& settle = j.at("settle");
-    s.settle_rounds = settle.at("rounds").get<int>();
+    s.settle_rounds = ReadInteger<int>(settle.at("rounds"));
     s.calibration = settle.at("calibration");
     if (!settle.at("laplace").empty()) s.laplace = ReadMatrix(settle.at("laplace"), d);
     if ((s.phase == Phase::Refining || s.phase == Phase::Settling || s.phase == Phase::Restarting) &&
@@ -255,9 +255,9 @@ State StateFromJson(const json& j) {
     s.samples.reserve(n);
     for (size_t i = 0; i < n; ++i) {
       Sample row;
-      row.iteration = rows["iteration"][i].get<int>();
-      row.chain = rows["chain"][i].get<int>();
-      row.level = rows["level"][i].get<int>();
+      row.iteration = ReadInteger<int>(rows["iteration"][i]);
+      row.chain = ReadInteger<int>(rows["chain"][i]);
+      row.level = ReadInteger<int>(rows["level"][i]);
       row.temperature = ReadNumber(rows["temperature"][i]);
       row.accepted = rows["accepted"][i].get<bool>();
       row.swapped = rows["swapped"][i].get<bool>();

@@ -42,8 +42,15 @@ NoiseCalibration NoiseCalibrationFromJson(const nlohmann::json& j) {
     c.kappa = j.at("kappa").get<double>();
     c.kappa_min = j.at("kappa_min").get<double>();
     c.kappa_max = j.at("kappa_max").get<double>();
-    c.blocks = j.at("blocks").get<int>();
-    c.block = j.value("block", 8);  // checkpoints written before the block size was chosen
+    // Counts as JSON integers: get<int> would cast a float, undefined beyond int's range.
+    const auto count = [](const nlohmann::json& n, const char* name) {
+      if (!n.is_number_integer() || n.get<int64_t>() < 0 || n.get<int64_t>() > (int64_t(1) << 30))
+        throw std::invalid_argument(std::string(name) + " is not a count: " + n.dump());
+      return int(n.get<int64_t>());
+    };
+    c.blocks = count(j.at("blocks"), "blocks");
+    // Checkpoints written before the block size was chosen have none: 8.
+    c.block = j.contains("block") ? count(j.at("block"), "block") : 8;
     c.chi2_per_dof = j.at("chi2_per_dof").get<double>();
     if (!(c.sigma > 0.0) || !(c.kappa > 0.0) || !(c.position_sd >= 0.0))
       throw std::invalid_argument("sigma, position_sd or kappa out of range");

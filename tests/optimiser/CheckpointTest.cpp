@@ -144,6 +144,14 @@ TEST(Checkpoint, MismatchedOrMalformedCheckpointsAreRejected) {
   EXPECT_FALSE(Resume(bad, target, &s));
   EXPECT_FALSE(Resume(nlohmann::json{{"format", "something else"}}, target, &s));
   EXPECT_THROW(Sampler(nlohmann::json::array(), target), std::invalid_argument);
+  // Integers must be JSON integers in range: a float was cast to int, undefined beyond its
+  // range (fuzz_checkpoint found target_levels 2.6e51).
+  for (const nlohmann::json& value : {nlohmann::json(2.55556e51), nlohmann::json(3.0), nlohmann::json(4294967299LL)}) {
+    bad = good;
+    bad["target_levels"] = value;
+    EXPECT_FALSE(Resume(bad, target, &s)) << value;
+    EXPECT_NE(s.message.find("expected an integer"), std::string::npos) << s.message;
+  }
 }
 
 }  // namespace
