@@ -47,4 +47,8 @@ python3 bench/report.py "$json" >bench/RESULTS.md
 python=/usr/bin/python3
 [ -x "$python" ] || python=python3
 if [ -f bench/peers.json ]; then "$python" bench/peers_report.py bench/peers.json; fi
+# So do the GPU sections, measured on lent machines (scripts/device_check.sh).
+for d in bench/gpu/*/; do
+  if [ -f "$d/machine.txt" ]; then python3 bench/device_report.py "$d"; fi
+done
 echo "bench/run.sh: wrote $json and bench/RESULTS.md" >&2

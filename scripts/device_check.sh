@@ -1,0 +1,171 @@
+#!/usr/bin/env bash
+# GPU figures in one step, on a bare GPU machine with no Debian packages and no network.
+#
+#   scripts/device_check.sh prepare        here: a Release build of vkrecon and the shared
+#                                          libraries it needs, in device_bundle/ (≤ 64 MiB),
+#                                          with each asset's photographs and lavapipe's
+#                                          likelihoods of them; then a dry run on lavapipe
+#   scripts/device_check.sh run OUT        there (or here for the dry run): `vkrecon devices`,
+#                                          the likelihood on every asset against lavapipe's,
+#                                          `vkrecon bench --json`, one default `run` of house;
+#                                          every result into OUT/
+#   bench/device_report.py OUT             back here: the "On a GPU" section of bench/RESULTS.md
+#
+# The bundle carries its own glibc and loader too: if the machine's libc is older than
+# Debian 12's, vkrecon runs under the carried ld.so (DEVICE_CHECK_LOADER=1 forces that). Only the GPU's Vulkan driver comes from
+# the machine (its ICD manifest is searched for where NVIDIA's container images put it).
+# docs/internals/BENCH.md ("On a GPU") says how the figures are read.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+BUNDLE=device_bundle
+AGREE_ASSETS=(box house poster stairs crate_clutter house_annex)
+
+# The likelihood of one asset's photographs at two points: the truth, and the truth moved by a
+# twentieth of each prior's width (so the difference between them is compared too).
+likelihoods() {  # VKRECON ASSET_DIR IMAGES_DIR
+  local vk=$1 asset=$2 images=$3 name
+  name=$(basename "$asset")
+  for at in truth moved; do
+    for kind in surface image; do
+      [ "$kind" = image ] && [ "$name" != house ] && continue  # the image-space kind on house alone
+      printf '%s %s %s ' "$name" "$at" "$kind"
+      # shellcheck disable=SC2086 # $vk is a command line (a loader and its arguments)
+      $vk likelihood "$asset/scene.json" --at "$images/$at.json" -q \
+        --set cameras="$images/cameras.json" --set images="$images" --set likelihood.kind="$kind" |
+        tr '\n' ' '
+      echo
+    done
+  done
+}
+
+prepare() {
+  export CCACHE_BASEDIR=$PWD CCACHE_NOHASHDIR=1
+  cmake -S . -B build-release -G Ninja -DCMAKE_BUILD_TYPE=Release -DVKRECON_UNITY=ON \
+    -DVKRECON_MPI=OFF -DBUILD_TESTING=OFF >/dev/null
+  cmake --build build-release -j "$(nproc)" --target vkrecon
+  rm -rf "$BUNDLE"
+  mkdir -p "$BUNDLE/bin" "$BUNDLE/lib/glibc" "$BUNDLE/agree"
+  strip -o "$BUNDLE/bin/vkrecon" build-release/apps/vkrecon
+  # Every library the binary loads (the Vulkan loader is linked). glibc apart, with the stubs a
+  # driver may still name: it is used only with its own loader, never mixed with the machine's.
+  ldd build-release/apps/vkrecon | awk '/=>/ {print $3} /ld-linux/ {print $1}' | sort -u |
+    while read -r lib; do
+      case "$(basename "$lib")" in
+        ld-linux*|libc.so*|libm.so*) cp -L "$lib" "$BUNDLE/lib/glibc/" ;;
+        *) [ -f "$lib" ] && cp -L "$lib" "$BUNDLE/lib/" ;;
+      esac
+    done
+  for stub in libdl.so.2 libpthread.so.0 librt.so.1; do cp -L "/lib/x86_64-linux-gnu/$stub" "$BUNDLE/lib/glibc/"; done
+  local vk="$BUNDLE/bin/vkrecon"
+  for name in "${AGREE_ASSETS[@]}"; do
+    local images="$BUNDLE/agree/$name" synth="assets/$name/scene.json"
+    # The clutter assets' photographs show what their scene leaves out.
+    [ -f "assets/$name/synth.json" ] && synth="assets/$name/synth.json"
+    "$vk" synth "$synth" --at "assets/$name/truth.json" --scale 0.5 --noise 8 \
+      --seed 1 -q -o "$images"
+    cp "assets/$name/truth.json" "$images/truth.json"
+    python3 - "assets/$name/scene.json" "$images/truth.json" "$images/moved.json" <<'PY'
+import json, sys
+scene, truth = json.load(open(sys.argv[1])), json.load(open(sys.argv[2]))
+moved = {}
+for name, p in scene["parameters"].items():
+    prior = p["prior"]
+    if "uniform" in prior:
+        lo, hi = prior["uniform"]
+        moved[name] = min(hi, truth[name] + (hi - lo) / 20)
+    else:  # a normal prior: a tenth of its sd
+        moved[name] = truth[name] + prior["normal"][1] / 10
+json.dump(moved, open(sys.argv[3], "w"), indent=2)
+PY
+  done
+  echo "device_check: lavapipe's likelihoods (the reference the GPU is compared with)" >&2
+  for name in "${AGREE_ASSETS[@]}"; do
+    VK_DRIVER_FILES=/usr/share/vulkan/icd.d/lvp_icd.x86_64.json \
+      likelihoods "$vk" "assets/$name" "$BUNDLE/agree/$name"
+  done >"$BUNDLE/agree/lavapipe.txt"
+  cat "$BUNDLE/agree/lavapipe.txt" >&2
+  du -sh "$BUNDLE" >&2
+}
+
+# How to start the carried binary on this machine: directly if its libc is new enough, else
+# through the carried loader.
+launcher() {
+  local lib=$PWD/$BUNDLE/lib bin=$PWD/$BUNDLE/bin/vkrecon
+  if [ -z "${DEVICE_CHECK_LOADER:-}" ] && LD_LIBRARY_PATH="$lib:${LD_LIBRARY_PATH:-}" "$bin" --help >/dev/null 2>&1; then
+    printf '%s\n' "env LD_LIBRARY_PATH=$lib:${LD_LIBRARY_PATH:-} $bin"
+  else
+    printf '%s\n' "$lib/glibc/ld-linux-x86-64.so.2 --library-path $lib/glibc:$lib:${LD_LIBRARY_PATH:-} $bin"
+  fi
+}
+
+run() {
+  local out=${1:?usage: scripts/device_check.sh run OUT}
+  mkdir -p "$out"
+  [ -x "$BUNDLE/bin/vkrecon" ] || { echo "device_check: no $BUNDLE/ (run 'prepare' first)" >&2; exit 2; }
+  # NVIDIA's driver: its libraries and its Vulkan manifest where container images put them.
+  for d in /usr/local/nvidia/lib64 /usr/local/nvidia/lib /usr/lib/x86_64-linux-gnu; do
+    [ -d "$d" ] && export LD_LIBRARY_PATH="${LD_LIBRARY_PATH:+$LD_LIBRARY_PATH:}$d"
+  done
+  if [ -z "${VK_DRIVER_FILES:-}" ]; then
+    for f in /usr/local/nvidia/share/vulkan/icd.d/nvidia_icd.json /usr/share/vulkan/icd.d/nvidia_icd.json \
+             /etc/vulkan/icd.d/nvidia_icd.json; do
+      [ -f "$f" ] && { export VK_DRIVER_FILES=$f; break; }
+    done
+  fi
+  if [ -z "${VK_DRIVER_FILES:-}" ] && command -v nvidia-smi >/dev/null; then  # elsewhere on a GPU machine
+    f=$(find / -xdev -name 'nvidia_icd*.json' 2>/dev/null | head -1 || true)
+    [ -n "$f" ] && export VK_DRIVER_FILES=$f
+  fi
+  # The library the manifest names, wherever the driver was mounted.
+  local glx
+  glx=$(find /usr/local/nvidia /usr/lib64 /usr/lib/x86_64-linux-gnu -maxdepth 2 -name 'libGLX_nvidia.so.0' 2>/dev/null | head -1 || true)
+  [ -n "$glx" ] && export LD_LIBRARY_PATH="$(dirname "$glx"):$LD_LIBRARY_PATH"
+  unset VKRECON_VALIDATION  # no validation layer there
+  local vk
+  vk=$(launcher)
+  {
+    echo "date: $(date -u +%Y-%m-%dT%H:%M:%SZ)"
+    echo "launcher: $vk"
+    echo "VK_DRIVER_FILES: ${VK_DRIVER_FILES:-}"
+    echo "cpu: $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2-) ($(nproc) cores)"
+    command -v nvidia-smi >/dev/null && nvidia-smi --query-gpu=name,driver_version,memory.total --format=csv,noheader
+    echo "devices:"
+    $vk devices
+  } >"$out/machine.txt" 2>&1
+  cat "$out/machine.txt"
+
+  echo "== likelihoods against lavapipe's"
+  local start=$SECONDS
+  for name in "${AGREE_ASSETS[@]}"; do
+    likelihoods "$vk" "assets/$name" "$BUNDLE/agree/$name"
+  done >"$out/agree.txt" 2>"$out/agree.err" || true
+  paste -d' ' "$BUNDLE/agree/lavapipe.txt" "$out/agree.txt" | head -40
+  echo "($((SECONDS - start)) s)"
+
+  echo "== bench"
+  start=$SECONDS
+  timeout "${DEVICE_CHECK_BENCH_S:-300}" $vk bench --json --assets assets "${DEVICE_CHECK_BENCH_ARGS[@]}" \
+    >"$out/bench.json" 2>"$out/bench.err" || echo "bench: exit $?" | tee -a "$out/bench.err"
+  tail -3 "$out/bench.err"
+  echo "($((SECONDS - start)) s)"
+
+  echo "== run: house, default settings, its photographs at full size and σ 16"
+  start=$SECONDS
+  local images=$out/house_images
+  $vk synth assets/house/scene.json --at assets/house/truth.json --noise 16 --seed 1 -q -o "$images"
+  # shellcheck disable=SC2086 # DEVICE_CHECK_RUN_ARGS: extra options, for the dry run's time limit
+  timeout "${DEVICE_CHECK_RUN_S:-300}" $vk run assets/house/scene.json -q ${DEVICE_CHECK_RUN_ARGS:-} \
+    --set cameras="$images/cameras.json" --set images="$images" -o "$out/house_run" \
+    >"$out/run.txt" 2>&1 || echo "run: exit $?" | tee -a "$out/run.txt"
+  echo "wall: $((SECONDS - start)) s (synth and run)" >>"$out/run.txt"
+  tail -5 "$out/run.txt"
+  # Only map.json and the log come back (the device tool returns at most 8 files, 2 folders down).
+  cp "$out/house_run/map.json" "$out/run_map.json" 2>/dev/null || true
+  rm -rf "$images" "$out/house_run"
+}
+
+case "${1:-}" in
+  prepare) prepare ;;
+  run) shift; DEVICE_CHECK_BENCH_ARGS=("${@:2}"); run "$1" ;;
+  *) echo "usage: scripts/device_check.sh prepare | run OUT [bench options]" >&2; exit 2 ;;
+esac
