@@ -8,7 +8,9 @@
 #   scripts/device_check.sh run OUT        there (or here for the dry run): `vkrecon devices`,
 #                                          the likelihood on every asset against lavapipe's,
 #                                          `vkrecon bench --json`, one default `run` of house;
-#                                          every result into OUT/
+#                                          every result into OUT/ (DEVICE_CHECK_DEFAULT_RUNS="box
+#                                          house": runs of those assets with the sampler's and
+#                                          likelihood's defaults too)
 #   bench/device_report.py OUT             back here: the "On a GPU" section of bench/RESULTS.md
 #
 # The bundle carries its own glibc and loader too: if the machine's libc is older than
@@ -56,6 +58,13 @@ prepare() {
       esac
     done
   for stub in libdl.so.2 libpthread.so.0 librt.so.1; do cp -L "/lib/x86_64-linux-gnu/$stub" "$BUNDLE/lib/glibc/"; done
+  # NVIDIA's Vulkan driver lives in libGLX_nvidia, which finds no instance entry point without
+  # glvnd's dispatch libraries: a bare GPU machine lacks them (VK_ERROR_INCOMPATIBLE_DRIVER).
+  # Debian's packages, unpacked into / there (the device machine's README does the same).
+  mkdir -p "$BUNDLE/gl" /tmp/device_check_apt/partial
+  local apt_o=(-oAPT::Architecture=amd64 -oAPT::Architectures=amd64 -oDir::State::Lists=/tmp/device_check_apt)
+  apt-get "${apt_o[@]}" update -qq
+  (cd "$BUNDLE/gl" && apt-get "${apt_o[@]}" download -qq libglvnd0 libegl1 libgl1 libglx0 libgles2 libopengl0 2>/dev/null)
   local vk="$BUNDLE/bin/vkrecon"
   for name in "${AGREE_ASSETS[@]}"; do
     local images="$BUNDLE/agree/$name" synth="assets/$name/scene.json"
@@ -102,6 +111,10 @@ run() {
   local out=${1:?usage: scripts/device_check.sh run OUT}
   mkdir -p "$out"
   [ -x "$BUNDLE/bin/vkrecon" ] || { echo "device_check: no $BUNDLE/ (run 'prepare' first)" >&2; exit 2; }
+  if [ "$(id -u)" -eq 0 ] && command -v nvidia-smi >/dev/null && ! ldconfig -p | grep -q libGLdispatch; then
+    for deb in "$BUNDLE"/gl/*.deb; do dpkg -x "$deb" /; done
+    ldconfig
+  fi
   # NVIDIA's driver: its libraries and its Vulkan manifest where container images put them.
   for d in /usr/local/nvidia/lib64 /usr/local/nvidia/lib /usr/lib/x86_64-linux-gnu; do
     [ -d "$d" ] && export LD_LIBRARY_PATH="${LD_LIBRARY_PATH:+$LD_LIBRARY_PATH:}$d"
@@ -162,6 +175,33 @@ run() {
   # Only map.json and the log come back (the device tool returns at most 8 files, 2 folders down).
   cp "$out/house_run/map.json" "$out/run_map.json" 2>/dev/null || true
   rm -rf "$images" "$out/house_run"
+  [ -s "$out/agree.err" ] || rm -f "$out/agree.err"
+  for name in ${DEVICE_CHECK_DEFAULT_RUNS:-}; do default_run "$vk" "$name" "$out"; done
+}
+
+# The sampler at its defaults: ASSET's scene without its likelihood and sampler blocks, on
+# full-size photographs at σ 16; one summary line appended to OUT/run.txt.
+default_run() {  # VKRECON ASSET OUT
+  local vk=$1 name=$2 out=$3 start=$SECONDS
+  local images=$out/${name}_images scene=assets/$name/scene_defaults.json
+  python3 -c 'import json, sys
+s = json.load(open(sys.argv[1])); s.pop("likelihood", None); s.pop("sampler", None)
+json.dump(s, open(sys.argv[2], "w"), indent=2)' "assets/$name/scene.json" "$scene"
+  $vk synth "assets/$name/scene.json" --at "assets/$name/truth.json" --noise 16 --seed 1 -q -o "$images"
+  # shellcheck disable=SC2086
+  timeout 400 $vk run "$scene" -q ${DEVICE_CHECK_DEFAULT_ARGS:-} --set cameras="$images/cameras.json" \
+    --set images="$images" -o "$out/${name}_run" >/dev/null 2>&1 || true
+  python3 -c 'import json, statistics, sys
+m, t, s = (json.load(open(p)) for p in sys.argv[1:4])
+e = [abs(v["map"] - t[k]) / (s["parameters"][k]["prior"]["uniform"][1] - s["parameters"][k]["prior"]["uniform"][0])
+     for k, v in m["parameters"].items()]
+c = sum(v["q025"] <= t[k] <= v["q975"] for k, v in m["parameters"].items())
+print("default", sys.argv[4], json.dumps(m["sampling"]), "iterations", m["iterations"], "evaluations",
+      m["evaluations"], "median_error", statistics.median(e), "covered", c, len(e), "verdict",
+      m["diagnosis"]["verdict"], "wall_s", sys.argv[5])' "$out/${name}_run/map.json" "assets/$name/truth.json" \
+    "assets/$name/scene.json" "$name" "$((SECONDS - start))" >>"$out/run.txt" 2>&1 || echo "default $name: failed" >>"$out/run.txt"
+  tail -1 "$out/run.txt"
+  rm -rf "$images" "$out/${name}_run" "$scene"
 }
 
 case "${1:-}" in
