@@ -119,6 +119,25 @@ def run_summary(m, truth, priors):
     return rows
 
 
+def default_runs(text):
+    """Rows from the `default ASSET {sampling} key value …` lines of device_check.sh."""
+    rows = []
+    for line in text.splitlines():
+        if not line.startswith("default ") or "{" not in line:
+            continue
+        head, rest = line.split("{", 1)
+        sampling = json.loads("{" + rest[:rest.index("}") + 1])
+        words = rest[rest.index("}") + 1:].split()
+        at = words.index("covered")
+        covered = words[at + 1:at + 3]  # inside, of
+        words = words[:at] + words[at + 3:]
+        f = dict(zip(words[0::2], words[1::2]))
+        rows.append([head.split()[1], sampling["ended_by"], num(sampling["max_rhat"], 3), num(sampling["min_ess"], 0),
+                     f["iterations"], f["evaluations"], f"{100 * float(f['median_error']):.3f} %",
+                     f"{covered[0]} of {covered[1]}", f["verdict"], f"{f['wall_s']} s"])
+    return rows
+
+
 def section(folder, lavapipe_json):
     machine = read(os.path.join(folder, "machine.txt")).strip().splitlines()
     bench = json.loads(read(os.path.join(folder, "bench.json"), "{}") or "{}")
@@ -174,6 +193,13 @@ def section(folder, lavapipe_json):
         if wall:
             rows.append(["wall clock", wall[-1].split(":", 1)[1].strip()])
         out += [table(["", "value"], rows), ""]
+    defaults = default_runs(read(os.path.join(folder, "run.txt")))
+    if defaults:
+        out += ["### The sampler at its defaults", "",
+                "Each asset's scene with its `likelihood` and `sampler` blocks deleted, on photographs synthesised "
+                "there at full size, σ 16, seed 1 (`DEVICE_CHECK_DEFAULT_RUNS`; the time limit in `run.txt`):", ""]
+        out += [table(["asset", "ended by", "largest R̂", "smallest ESS", "iterations", "evaluations",
+                       "median error", "covered", "verdict", "wall"], defaults), ""]
     out.append(end)
     return "\n".join(out)
 
