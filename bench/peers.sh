@@ -12,7 +12,7 @@ VKRECON=${VKRECON_BUILD_DIR:-build}/apps/vkrecon
 tmp=$(mktemp)
 trap 'rm -f "$tmp"' EXIT
 # A work folder unless one is given, so that a crash costs one (asset, seed) group: lavapipe
-# has a rare heap race (docs/HARDENING.md, "A rare crash inside lavapipe"); after SIGSEGV or
+# has a rare heap race (docs/internals/HARDENING.md, "A rare crash inside lavapipe"); after SIGSEGV or
 # SIGABRT the bench goes on with --resume, at most twice.
 work=(--work build/peers-work)
 for arg in "$@"; do [ "$arg" = --work ] && work=(); done

@@ -129,7 +129,7 @@ def analysis(res, by_name, rows):
                    f"{(b['cameras'] * 8 + 4) / (a['cameras'] * 8 + 4):.0f}× more: its cost is per texel, not per byte. "
                    "What is per texel in composite.comp: per-lane `imageLoad`s of storage images (the mask and each "
                    "view), the decoding of each view (colour correction, noise variance), the robust consensus "
-                   "(docs/LIKELIHOOD.md: a loss that saturates, and up to 3 reweighting rounds where a view "
+                   "(docs/internals/LIKELIHOOD.md: a loss that saturates, and up to 3 reweighting rounds where a view "
                    "disagrees) and the loss. A workgroup is one subgroup; each invocation sums a column of "
                    f"{COMPOSITE_ROWS} texels and the subgroup adds its lanes (`subgroupAdd`), with no shared memory and "
                    "no `barrier()`: llvmpipe runs a shader with barriers as coroutines, and the earlier fixed-order "

@@ -94,7 +94,7 @@ def parse_args(argv):
     p.add_argument("--reuse", action="store_true",
                    help="skip a run whose map.json exists (made by the same commands), to resume a study")
     p.add_argument("--work", default="out/noise_study", help="work folder (default %(default)s)")
-    p.add_argument("--report", default="docs/NOISE_STUDY.md", help="Markdown report (default %(default)s)")
+    p.add_argument("--report", default="docs/internals/NOISE_STUDY.md", help="Markdown report (default %(default)s)")
     p.add_argument("--plot", default="docs/figures/noise_study.svg", help="SVG figure (default %(default)s)")
     args = p.parse_args(argv)
 
