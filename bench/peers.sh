@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The peers benchmark (issue 15): `vkrecon run` against NLopt's methods at finding the MAP,
+# The peers benchmark: `vkrecon run` against NLopt's methods at finding the MAP,
 # 4 assets × 5 seeds at σ = 16 (~45 min on 2 cores). Keeps bench/peers.json and splices the
 # "Peers" section (table, bench/peers.png, bench/peers_notes.md) into bench/RESULTS.md,
 # leaving the throughput sections as they are. Extra arguments go to `vkrecon bench`
