@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The peers benchmark (issue 15): `vkrecon run` against NLopt's methods at finding the MAP,
+# The peers benchmark: `vkrecon run` against NLopt's methods at finding the MAP,
 # 4 assets × 5 seeds at σ = 16 (~45 min on 2 cores). Keeps bench/peers.json and splices the
 # "Peers" section (table, bench/peers.png, bench/peers_notes.md) into bench/RESULTS.md,
 # leaving the throughput sections as they are. Extra arguments go to `vkrecon bench`
@@ -12,7 +12,7 @@ VKRECON=${VKRECON_BUILD_DIR:-build}/apps/vkrecon
 tmp=$(mktemp)
 trap 'rm -f "$tmp"' EXIT
 # A work folder unless one is given, so that a crash costs one (asset, seed) group: lavapipe
-# has a rare heap race (docs/HARDENING.md, "A rare crash inside lavapipe"); after SIGSEGV or
+# has a rare heap race (docs/internals/HARDENING.md, "A rare crash inside lavapipe"); after SIGSEGV or
 # SIGABRT the bench goes on with --resume, at most twice.
 work=(--work build/peers-work)
 for arg in "$@"; do [ "$arg" = --work ] && work=(); done

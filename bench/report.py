@@ -129,14 +129,14 @@ def analysis(res, by_name, rows):
                    f"{(b['cameras'] * 8 + 4) / (a['cameras'] * 8 + 4):.0f}× more: its cost is per texel, not per byte. "
                    "What is per texel in composite.comp: per-lane `imageLoad`s of storage images (the mask and each "
                    "view), the decoding of each view (colour correction, noise variance), the robust consensus "
-                   "(docs/LIKELIHOOD.md: a loss that saturates, and up to 3 reweighting rounds where a view "
+                   "(docs/internals/LIKELIHOOD.md: a loss that saturates, and up to 3 reweighting rounds where a view "
                    "disagrees) and the loss. A workgroup is one subgroup; each invocation sums a column of "
                    f"{COMPOSITE_ROWS} texels and the subgroup adds its lanes (`subgroupAdd`), with no shared memory and "
                    "no `barrier()`: llvmpipe runs a shader with barriers as coroutines, and the earlier fixed-order "
                    "shared-memory tree per 16×16 texels made the house composite 22.6 ms (16×128 texels: 9.1 ms; "
                    "none: 6.1 ms, same machine, alternating). The view count is a specialisation constant, so the "
                    "loop over views unrolls (6.0 → 4.6 ms).")
-    out.append("  The robust statistic (issue 11) made it about 2.5× dearer than the plain mean and deviation. "
+    out.append("  The robust statistic (docs/internals/LIKELIHOOD.md, \"The statistic\") made it about 2.5× dearer than the plain mean and deviation. "
                "Measured by alternating builds (`vkrecon bench --only house`, 4 turns each, medians, 2026-11-24): "
                "the robust composite at first 12.4 ms; decoding the halves by their bits instead of "
                "`unpackHalf2x16` 9.7 ms; selecting unseen views (weight 0) instead of skipping them with "
@@ -279,7 +279,7 @@ def analysis(res, by_name, rows):
                "composite's bytes would take "
                f"{house['atlas'] ** 2 * (cams * 8 + 4) / ceilings['copy_bytes_per_s'] * 1e3:.1f} ms.")
     out.append("2. View pass (done: the layers are no longer cleared per hypothesis, since every chart texel is "
-               "written and the composite reads no other: 22.7 → 19.0 ms). Done (issue 15): host-side culling "
+               "written and the composite reads no other: 22.7 → 19.0 ms). Done: host-side culling "
                "(pipelines/passes/ViewCulling.h): per hypothesis and camera, faces wholly outside the frustum, "
                "before the near plane, or flat and facing away are drawn by a pipeline that only writes weight 0, "
                "bit-identical to the full shader's result; on `house` that is 18–23 % of the chart area per "
@@ -310,7 +310,7 @@ def analysis(res, by_name, rows):
                "fragment stage's search over every node, for hypotheses where no node has more than four candidate "
                "volumes: lavapipe ran that loop's first pass under the mask for every texel, 0.82 → 0.54 ms, 3 "
                "alternations, bit-identical).")
-    out.append(f"4. Composite over the charts only (done, issue 15): it visits only the workgroup tiles that touch a "
+    out.append(f"4. Composite over the charts only (done): it visits only the workgroup tiles that touch a "
                f"chart instead of all {house['atlas']}² = {house['atlas'] ** 2 / 1e3:.0f} k atlas texels "
                f"({house['surface_texels'] / 1e3:.0f} k lie on the surface); about a fifth less composite time "
                "with LP_NUM_THREADS=1 (13.8 → 10.6 and 16.5 → 13.9 ms, alternating).")
@@ -396,7 +396,7 @@ def main():
     house = by_name.get("house")
     if house and pass_ms(house, "composite"):
         share = pass_ms(house, "composite") / sum(house["passes_ms"].values())
-        bar_rows.append(["robust composite (issue 11): its share of the `house` row's GPU time", "≤ 15 %",
+        bar_rows.append(["robust composite (the likelihood for photographs): its share of the `house` row's GPU time", "≤ 15 %",
                          pct(share), "–", "**met**" if share <= 0.15 else "**not met**"])
     w(table(["bar", "target", "measured (wall clock)", "from CPU time²", "status"], bar_rows)
       if bar_rows else "(not evaluated in this run)")

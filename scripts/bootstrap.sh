@@ -3,8 +3,8 @@
 # Idempotent: runs `apt-get update` and `apt-get install` only when something is missing.
 # Works as root or through sudo; a bare Debian 12 with nothing but apt is enough.
 # Usage: scripts/bootstrap.sh [GROUP…]. Optional groups add packages a few scripts need:
-#   fuzz    clang, libFuzzer and llvm-symbolizer for scripts/fuzz.sh (docs/FUZZING.md)
-#   report  headless Chromium for scripts/report_screenshot.sh (docs/REPORT.md)
+#   fuzz    clang, libFuzzer and llvm-symbolizer for scripts/fuzz.sh (docs/internals/FUZZING.md)
+#   report  headless Chromium for scripts/report_screenshot.sh (docs/guide/REPORT.md)
 #   plots   matplotlib for the figure of bench/peers_report.py (bench/RESULTS.md, "Peers")
 set -euo pipefail
 
@@ -22,11 +22,11 @@ PACKAGES=(
   # python3 draws the plots of the sweep and benchmark scripts (optional at run time)
   python3
   # the plots and the 3D view of a run's report.html, inlined from /usr/share/javascript
-  # (optional at run time: without them the report keeps its tables and images; docs/REPORT.md)
+  # (optional at run time: without them the report keeps its tables and images; docs/guide/REPORT.md)
   libjs-chart.js libjs-three
   # MPI: `mpirun -n R vkrecon run` spreads a run over R ranks, one Vulkan device each
   # (optional at configure time: without it vkrecon builds and runs as one process;
-  # docs/SCALE_OUT.md)
+  # docs/guide/SCALE_OUT.md)
   libopenmpi-dev openmpi-bin
 )
 

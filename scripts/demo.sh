@@ -38,7 +38,7 @@ for k, v in m["parameters"].items():
     print(f"{k:>10} {t[k]:9.4f} {v['map']:9.4f} {v['mean']:9.4f} {v['sd']:8.4f}   [{v['q025']:8.4f}, {v['q975']:8.4f}]")
 PY
 echo
-echo "Report:           $OUT/run/report.html (open it in a browser; docs/REPORT.md)"
+echo "Report:           $OUT/run/report.html (open it in a browser; docs/guide/REPORT.md)"
 echo "Reconstruction:   $OUT/run/map.json, chain.csv, composite.exr, model.glb (Blender: File › Import › glTF 2.0)"
 echo "Reprojections:    $OUT/run/reprojections/*.png (reference | synthetic | |difference|×4)"
 echo "Novel views:      $OUT/views/orbit_*.exr (+ .png)"

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Fuzzes vkrecon's readers with libFuzzer (docs/FUZZING.md): installs clang and libFuzzer
+# Fuzzes vkrecon's readers with libFuzzer (docs/internals/FUZZING.md): installs clang and libFuzzer
 # when missing, builds the targets of tests/fuzz into build-fuzz (clang, ASan + UBSan),
 # runs each for its share of SECONDS, prints a table and exits 1 when anything was found.
 # Usage: scripts/fuzz.sh [SECONDS]   (default 600, all targets together)
@@ -71,7 +71,7 @@ for name in "${targets[@]}"; do
   echo "fuzz: $name for ${per_target}s" >&2
   # One libFuzzer process at a time, started again after each crash, hang or out-of-memory
   # until the target's time is up, so all are counted. (Fork mode counts them too but ran
-  # at half the executions per second here: docs/FUZZING.md.)
+  # at half the executions per second here: docs/internals/FUZZING.md.)
   # -timeout=1: an input that takes a second is a hang. -malloc_limit_mb: one allocation
   # over 1 GiB from a file of at most 64 KiB is a header believed too readily.
   : >"$log"

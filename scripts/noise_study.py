@@ -7,7 +7,7 @@ MAP and the 95 % intervals of map.json with truth.json. It writes
 
   WORK/ASSET/sigmaσ/{images,run,record.json}   the runs themselves
   WORK/noise_study.json                         every number of the study
-  REPORT (Markdown, also on stdout)             tables, coverage, the issue's bars
+  REPORT (Markdown, also on stdout)             tables, coverage, the accuracy bars
   PLOT (SVG)                                    relative error against σ, one line per asset
 
 Usage (normally through scripts/noise_study.sh, which builds vkrecon first):
@@ -43,7 +43,7 @@ DEFAULT_SIGMAS = [0.0, 8.0, 16.0, 32.0]
 QUICK_SETS = ["likelihood.atlas=128", "sampler.iterations=60"]
 QUICK_SCALE = 0.25
 
-# The issue's bars: at noise σ the median over parameters of |MAP − truth| / prior width
+# The accuracy bars: at noise σ the median over parameters of |MAP − truth| / prior width
 # must be at most this, for every asset; coverage and wall time over the same runs.
 ERROR_BARS = {0.0: 0.01, 16.0: 0.02, 32.0: 0.04}
 COVERAGE_BAR = 0.80
@@ -94,7 +94,7 @@ def parse_args(argv):
     p.add_argument("--reuse", action="store_true",
                    help="skip a run whose map.json exists (made by the same commands), to resume a study")
     p.add_argument("--work", default="out/noise_study", help="work folder (default %(default)s)")
-    p.add_argument("--report", default="docs/NOISE_STUDY.md", help="Markdown report (default %(default)s)")
+    p.add_argument("--report", default="docs/internals/NOISE_STUDY.md", help="Markdown report (default %(default)s)")
     p.add_argument("--plot", default="docs/figures/noise_study.svg", help="SVG figure (default %(default)s)")
     args = p.parse_args(argv)
 
@@ -341,7 +341,7 @@ def summarise(result):
 
 
 def check_bars(runs, sigmas):
-    """The issue's three bars, each PASS, FAIL or NOT MEASURED with the numbers behind it."""
+    """The three accuracy bars, each PASS, FAIL or NOT MEASURED with the numbers behind it."""
     bars = []
     for sigma, bar in ERROR_BARS.items():
         at = [r for r in runs if r["sigma"] == sigma]
@@ -432,7 +432,7 @@ def report(study, runs, bars, report_path, plot_path):
             f"{', '.join('`' + x + '`' for x in s['sets']) or 'none'}", ""]
     if s["sets"] or s["scale"]:
         out += ["> Smaller images or changed run settings: these numbers are a smoke test, "
-                "not the configuration the issue's bars are meant for.", ""]
+                "not the configuration the accuracy bars are meant for.", ""]
     out += ["Relative error = |MAP − truth| / prior width (uniform: hi − lo; normal: 4 sd). "
             "Covered = truth inside [q025, q975]. Likelihood σ (est. = estimated by `auto`), the "
             "texel correlation factor κ and χ²/dof are the run's own (map.json `calibration`, "
@@ -518,7 +518,7 @@ COLOURS = ["#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e", "#8c564b", "#e
 
 def svg_plot(runs, assets, sigmas):
     """Relative error (%, log axis: errors span decades) against σ; a line per asset through
-    its medians over parameters, a marker per parameter, the issue's bars dashed."""
+    its medians over parameters, a marker per parameter, the accuracy bars dashed."""
     W, H, left, right, top, bottom = 780, 480, 70, 215, 40, 55
     pw, ph = W - left - right, H - top - bottom
     values = [100 * p["rel_error"] for r in runs for p in r["parameters"].values()]
@@ -601,7 +601,7 @@ def svg_legend(assets, lx, ly, floor, bars):
     e.append(f'<text x="{lx + 30}" y="{yy + 22}">one parameter</text>')
     if bars:
         e.append(f'<line x1="{lx}" y1="{yy + 36}" x2="{lx + 22}" y2="{yy + 36}" stroke="#000" stroke-width="1.5" stroke-dasharray="4 3"/>')
-        e.append(f'<text x="{lx + 30}" y="{yy + 40}">issue bar (median ≤)</text>')
+        e.append(f'<text x="{lx + 30}" y="{yy + 40}">bar (median ≤)</text>')
     e.append(f'<text x="{lx}" y="{yy + 62}" font-size="10" fill="#666">errors below {floor:g} %</text>')
     e.append(f'<text x="{lx}" y="{yy + 75}" font-size="10" fill="#666">are drawn at {floor:g} %</text>')
     return e

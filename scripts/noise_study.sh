@@ -3,7 +3,7 @@
 # vkrecon, then runs scripts/noise_study.py with every argument passed on (`--help` explains
 # them). A developer tool: it does not call scripts/bootstrap.sh, so the build dependencies
 # must already be installed (run scripts/demo.sh or scripts/test.sh once for that).
-#   scripts/noise_study.sh                      # full study → docs/NOISE_STUDY.md (~40 min on 2 cores)
+#   scripts/noise_study.sh                      # full study → docs/internals/NOISE_STUDY.md (~40 min on 2 cores)
 #   scripts/noise_study.sh --quick --assets box --sigmas 0,16 --work /tmp/ns \
 #       --report /tmp/ns/report.md --plot /tmp/ns/plot.svg
 set -euo pipefail

@@ -2,7 +2,7 @@
 # Builds vkrecon with AddressSanitizer + UndefinedBehaviorSanitizer into build-asan/ (or
 # $VKRECON_ASAN_BUILD_DIR) and runs the whole test suite under them, lavapipe and the
 # validation layer included, as scripts/test.sh does. Any sanitizer report fails its test.
-# Suppressions (third-party code only) are in scripts/sanitize/; docs/SANITIZERS.md says why.
+# Suppressions (third-party code only) are in scripts/sanitize/; docs/internals/SANITIZERS.md says why.
 # Usage: scripts/sanitize.sh [ctest arguments…]
 set -euo pipefail
 cd "$(dirname "$0")/.."
