@@ -16,7 +16,7 @@
 # The bundle carries its own glibc and loader too: if the machine's libc is older than
 # Debian 12's, vkrecon runs under the carried ld.so (DEVICE_CHECK_LOADER=1 forces that). Only the GPU's Vulkan driver comes from
 # the machine (its ICD manifest is searched for where NVIDIA's container images put it).
-# docs/internals/BENCH.md ("On a GPU") says how the figures are read.
+# docs/internals/BENCHMARKS.md ("On a GPU") says how the figures are read.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 BUNDLE=device_bundle
