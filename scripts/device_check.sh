@@ -10,7 +10,8 @@
 #                                          `vkrecon bench --json`, one default `run` of house;
 #                                          every result into OUT/ (DEVICE_CHECK_DEFAULT_RUNS="box
 #                                          house": runs of those assets with the sampler's and
-#                                          likelihood's defaults too)
+#                                          likelihood's defaults too; DEVICE_CHECK_MERTON_SEEDS="1 2":
+#                                          runs of the Merton example; DEVICE_CHECK_STEPS: which steps)
 #   bench/device_report.py OUT             back here: the "On a GPU" section of bench/RESULTS.md
 #
 # The bundle carries its own glibc and loader too: if the machine's libc is older than
@@ -87,6 +88,8 @@ for name, p in scene["parameters"].items():
 json.dump(moved, open(sys.argv[3], "w"), indent=2)
 PY
   done
+  # Merton's real photographs, when this checkout has them beside it (step_merton).
+  [ -d ../shared/data/merton_college_1 ] && cp -r ../shared/data/merton_college_1 "$BUNDLE/merton"
   echo "device_check: lavapipe's likelihoods (the reference the GPU is compared with)" >&2
   for name in "${AGREE_ASSETS[@]}"; do
     VK_DRIVER_FILES=/usr/share/vulkan/icd.d/lvp_icd.x86_64.json \
@@ -107,15 +110,13 @@ launcher() {
   fi
 }
 
-run() {
-  local out=${1:?usage: scripts/device_check.sh run OUT}
-  mkdir -p "$out"
-  [ -x "$BUNDLE/bin/vkrecon" ] || { echo "device_check: no $BUNDLE/ (run 'prepare' first)" >&2; exit 2; }
+# NVIDIA's driver: glvnd's dispatch libraries where the machine lacks them, the driver's own
+# libraries and its Vulkan manifest where container images put them.
+find_driver() {
   if [ "$(id -u)" -eq 0 ] && command -v nvidia-smi >/dev/null && ! ldconfig -p | grep -q libGLdispatch; then
     for deb in "$BUNDLE"/gl/*.deb; do dpkg -x "$deb" /; done
     ldconfig
   fi
-  # NVIDIA's driver: its libraries and its Vulkan manifest where container images put them.
   for d in /usr/local/nvidia/lib64 /usr/local/nvidia/lib /usr/lib/x86_64-linux-gnu; do
     [ -d "$d" ] && export LD_LIBRARY_PATH="${LD_LIBRARY_PATH:+$LD_LIBRARY_PATH:}$d"
   done
@@ -134,6 +135,13 @@ run() {
   glx=$(find /usr/local/nvidia /usr/lib64 /usr/lib/x86_64-linux-gnu -maxdepth 2 -name 'libGLX_nvidia.so.0' 2>/dev/null | head -1 || true)
   [ -n "$glx" ] && export LD_LIBRARY_PATH="$(dirname "$glx"):$LD_LIBRARY_PATH"
   unset VKRECON_VALIDATION  # no validation layer there
+}
+
+run() {
+  local out=${1:?usage: scripts/device_check.sh run OUT}
+  mkdir -p "$out"
+  [ -x "$BUNDLE/bin/vkrecon" ] || { echo "device_check: no $BUNDLE/ (run 'prepare' first)" >&2; exit 2; }
+  find_driver
   local vk
   vk=$(launcher)
   {
@@ -146,37 +154,72 @@ run() {
     $vk devices
   } >"$out/machine.txt" 2>&1
   cat "$out/machine.txt"
+  # DEVICE_CHECK_STEPS picks the steps (all by default), so a second call can spend its
+  # minutes on what the first did not measure.
+  for step in ${DEVICE_CHECK_STEPS:-agree bench house defaults merton}; do
+    echo "== $step"
+    local start=$SECONDS
+    "step_$step" "$vk" "$out"
+    echo "($((SECONDS - start)) s)"
+  done
+  [ -s "$out/agree.err" ] || rm -f "$out/agree.err"
+}
 
-  echo "== likelihoods against lavapipe's"
-  local start=$SECONDS
+step_agree() {  # VKRECON OUT: the likelihood on every asset against lavapipe's
+  local vk=$1 out=$2
   for name in "${AGREE_ASSETS[@]}"; do
     likelihoods "$vk" "assets/$name" "$BUNDLE/agree/$name"
   done >"$out/agree.txt" 2>"$out/agree.err" || true
   paste -d' ' "$BUNDLE/agree/lavapipe.txt" "$out/agree.txt" | head -40
-  echo "($((SECONDS - start)) s)"
+}
 
-  echo "== bench"
-  start=$SECONDS
+step_bench() {  # VKRECON OUT
+  local vk=$1 out=$2
   timeout "${DEVICE_CHECK_BENCH_S:-300}" $vk bench --json --assets assets "${DEVICE_CHECK_BENCH_ARGS[@]}" \
     >"$out/bench.json" 2>"$out/bench.err" || echo "bench: exit $?" | tee -a "$out/bench.err"
   tail -3 "$out/bench.err"
-  echo "($((SECONDS - start)) s)"
+}
 
-  echo "== run: house, default settings, its photographs at full size and σ 16"
-  start=$SECONDS
-  local images=$out/house_images
+step_house() {  # VKRECON OUT: house at its scene's settings, full-size photographs at σ 16
+  local vk=$1 out=$2 start=$SECONDS images=$2/house_images
   $vk synth assets/house/scene.json --at assets/house/truth.json --noise 16 --seed 1 -q -o "$images"
   # shellcheck disable=SC2086 # DEVICE_CHECK_RUN_ARGS: extra options, for the dry run's time limit
   timeout "${DEVICE_CHECK_RUN_S:-300}" $vk run assets/house/scene.json -q ${DEVICE_CHECK_RUN_ARGS:-} \
     --set cameras="$images/cameras.json" --set images="$images" -o "$out/house_run" \
-    >"$out/run.txt" 2>&1 || echo "run: exit $?" | tee -a "$out/run.txt"
+    >>"$out/run.txt" 2>&1 || echo "run: exit $?" | tee -a "$out/run.txt"
   echo "wall: $((SECONDS - start)) s (synth and run)" >>"$out/run.txt"
   tail -5 "$out/run.txt"
   # Only map.json and the log come back (the device tool returns at most 8 files, 2 folders down).
   cp "$out/house_run/map.json" "$out/run_map.json" 2>/dev/null || true
   rm -rf "$images" "$out/house_run"
-  [ -s "$out/agree.err" ] || rm -f "$out/agree.err"
-  for name in ${DEVICE_CHECK_DEFAULT_RUNS:-}; do default_run "$vk" "$name" "$out"; done
+}
+
+step_defaults() {  # VKRECON OUT
+  local name
+  for name in ${DEVICE_CHECK_DEFAULT_RUNS:-}; do default_run "$1" "$name" "$2"; done
+}
+
+# Merton's photographs (../shared/data, carried in the bundle when prepare found them) with
+# the example's scene, once per seed in DEVICE_CHECK_MERTON_SEEDS: where the chains end, the
+# corner, and the log posterior each run's MAP reaches. One line each in OUT/run.txt.
+step_merton() {  # VKRECON OUT
+  local vk=$1 out=$2 seed data=$BUNDLE/merton
+  [ -d "$data" ] || { echo "no $data: skipped"; return; }
+  for seed in ${DEVICE_CHECK_MERTON_SEEDS:-}; do
+    local start=$SECONDS dir=$out/merton_$seed
+    # shellcheck disable=SC2086
+    timeout "${DEVICE_CHECK_MERTON_S:-120}" $vk run docs/examples/merton/scene.json -q ${DEVICE_CHECK_MERTON_ARGS:-} \
+      --set images="$data/" --set cameras="$data/cameras.json" --set sampler.seed="$seed" -o "$dir" \
+      >/dev/null 2>&1 || true
+    python3 -c 'import json, sys
+m = json.load(open(sys.argv[1])); p = m["parameters"]
+print("merton seed", sys.argv[2], json.dumps(m["sampling"]), "log_posterior", m["log_posterior"],
+      "evaluations", m["evaluations"], " ".join("%s %.4f [%.4f,%.4f]" % (k, v["map"], v["q025"], v["q975"]) for k, v in p.items()),
+      "verdict", m["diagnosis"]["verdict"], "wall_s", sys.argv[3])' "$dir/map.json" "$seed" "$((SECONDS - start))" \
+      >>"$out/run.txt" 2>&1 || echo "merton seed $seed: failed" >>"$out/run.txt"
+    tail -1 "$out/run.txt"
+    rm -rf "$dir"
+  done
 }
 
 # The sampler at its defaults: ASSET's scene without its likelihood and sampler blocks, on
