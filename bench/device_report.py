@@ -138,6 +138,27 @@ def default_runs(text):
     return rows
 
 
+def merton_runs(text):
+    """Rows from the `merton seed N {sampling} key value … NAME MAP [LO,HI] …` lines."""
+    rows = []
+    for line in text.splitlines():
+        if not line.startswith("merton seed ") or "{" not in line:
+            continue
+        head, rest = line.split("{", 1)
+        sampling = json.loads("{" + rest[:rest.index("}") + 1])
+        w = rest[rest.index("}") + 1:].split()
+
+        def after(key, n=1):
+            i = w.index(key)
+            return w[i + 1:i + 1 + n]
+
+        angle, xc = after("angle", 2), after("xc", 2)
+        rows.append([head.split()[2], sampling["ended_by"], num(sampling["max_rhat"], 3), num(sampling["min_ess"], 0),
+                     num(float(after("log_posterior")[0]), 1), f"{angle[0]}° {angle[1]}", f"{xc[0]} {xc[1]}",
+                     after("verdict")[0], f"{after('wall_s')[0]} s"])
+    return rows
+
+
 def section(folder, lavapipe_json):
     machine = read(os.path.join(folder, "machine.txt")).strip().splitlines()
     bench = json.loads(read(os.path.join(folder, "bench.json"), "{}") or "{}")
@@ -200,6 +221,14 @@ def section(folder, lavapipe_json):
                 "there at full size, σ 16, seed 1 (`DEVICE_CHECK_DEFAULT_RUNS`; the time limit in `run.txt`):", ""]
         out += [table(["asset", "ended by", "largest R̂", "smallest ESS", "iterations", "evaluations",
                        "median error", "covered", "verdict", "wall"], defaults), ""]
+    merton = merton_runs(read(os.path.join(folder, "run.txt")))
+    if merton:
+        out += ["### Merton, one run per seed", "",
+                "`docs/examples/merton/scene.json` as it is (600 iterations), its photographs carried from "
+                "`../shared/data` (`DEVICE_CHECK_MERTON_SEEDS`). The log posterior is each run's own, under the "
+                "calibration that run estimated, so it ranks the seeds only roughly.", ""]
+        out += [table(["seed", "ended by", "largest R̂", "smallest ESS", "log posterior", "angle (95 %)",
+                       "xc (95 %)", "verdict", "wall"], merton), ""]
     out.append(end)
     return "\n".join(out)
 
