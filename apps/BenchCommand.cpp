@@ -15,7 +15,7 @@ namespace vkr::app {
 namespace {
 
 // --assets, else VKRECON_ASSETS, else ./assets, else the assets/ folder of the source tree
-// the binary was built in (build*/apps/vkrecon → assets/).
+// the binary was built in (build*/apps/vkrecon → assets/) or installed with it.
 fs::path FindAssets(const std::string& given) {
   if (!given.empty()) return given;
   if (const char* env = std::getenv("VKRECON_ASSETS")) return env;
@@ -25,6 +25,7 @@ fs::path FindAssets(const std::string& given) {
   for (int up = 0; !ec && up < 4 && exe.has_parent_path(); ++up) {
     exe = exe.parent_path();
     candidates.push_back(exe / "assets");
+    candidates.push_back(exe / "share" / "vkrecon" / "assets");  // installed: PREFIX/bin/vkrecon
   }
   for (const fs::path& c : candidates)
     if (fs::exists(c / "house" / "scene.json")) return c;
