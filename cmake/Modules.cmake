@@ -16,5 +16,7 @@ function(vkr_add_module name dir)
   set_property(GLOBAL APPEND PROPERTY VKR_MODULES ${name})  # what cmake/Install.cmake installs
   target_compile_options(${name} PRIVATE -Wall -Wextra -Wno-missing-field-initializers)
   target_link_libraries(${name} PUBLIC ${ARG_DEPS})
-  set_target_properties(${name} PROPERTIES UNITY_BUILD ${VKRECON_UNITY} UNITY_BUILD_BATCH_SIZE 16)
+  # Position-independent, so the Python module (python/) can link the same libraries.
+  set_target_properties(${name} PROPERTIES UNITY_BUILD ${VKRECON_UNITY} UNITY_BUILD_BATCH_SIZE 16
+                                           POSITION_INDEPENDENT_CODE ON)
 endfunction()

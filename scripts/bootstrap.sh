@@ -6,6 +6,7 @@
 #   fuzz    clang, libFuzzer and llvm-symbolizer for scripts/fuzz.sh (docs/internals/FUZZING.md)
 #   report  headless Chromium for scripts/report_screenshot.sh (docs/guide/REPORT.md)
 #   plots   matplotlib for the figure of bench/peers_report.py (bench/RESULTS.md, "Peers")
+#   python  pybind11, numpy and pytest for `import vkrecon` and its tests (docs/guide/PYTHON.md)
 set -euo pipefail
 
 PACKAGES=(
@@ -38,7 +39,9 @@ for group in "$@"; do
     # chromium renders report.html headless: a screenshot, and the page's console errors.
     report) PACKAGES+=(chromium) ;;
     plots) PACKAGES+=(python3-matplotlib) ;;
-    *) echo "bootstrap: unknown package group '$group' (known: fuzz, report, plots)" >&2; exit 2 ;;
+    # pybind11 and Debian's python3 build `import vkrecon` (python/); numpy and pytest run it
+    python) PACKAGES+=(pybind11-dev python3-dev python3-numpy python3-pytest) ;;
+    *) echo "bootstrap: unknown package group '$group' (known: fuzz, report, plots, python)" >&2; exit 2 ;;
   esac
 done
 

@@ -5,7 +5,8 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 # The report group adds headless Chromium: cli/ReportCli.BrowserFindsNoErrorInThePage opens a
 # run's report.html in it (skipped where it is missing, so CI installs it).
-scripts/bootstrap.sh report
+# The python group builds `import vkrecon` and runs its pytest suite (python/pytest).
+scripts/bootstrap.sh report python
 scripts/build.sh
 BUILD_DIR=${VKRECON_BUILD_DIR:-build}
 export VKRECON_VALIDATION=1
