@@ -10,6 +10,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "optimiser/Statistics.h"
+
 namespace vkr::opt {
 namespace {
 
@@ -28,6 +30,14 @@ double LogMeanExp(const std::vector<double>& x) {
 }
 
 }  // namespace
+
+double SeriesStandardError(const std::vector<double>& series, int* batches) {
+  const double batch_means = BatchMeansStandardError(series, batches);
+  const double ess = EffectiveSampleSize({series});
+  const double geyer = std::isfinite(ess) && ess > 0.0 ? StandardDeviation(series) / std::sqrt(ess) : kNaN;
+  if (std::isnan(batch_means) || std::isnan(geyer)) return std::isnan(geyer) ? batch_means : geyer;
+  return std::max(batch_means, geyer);
+}
 
 bool EvidenceEstimate::Agree() const {
   const double tolerance = 3.0 * std::hypot(se_ss, se_ti) + discretisation;
@@ -123,8 +133,8 @@ EvidenceEstimate EstimateEvidence(const std::vector<double>& beta,
   }
   e.discretisation = std::abs(e.log_z_ti - e.log_z_ti_trapezoid);
 
-  e.se_ss = BatchMeansStandardError(ss_series, &e.batches);
-  e.se_ti = BatchMeansStandardError(ti_series);
+  e.se_ss = SeriesStandardError(ss_series, &e.batches);
+  e.se_ti = SeriesStandardError(ti_series, nullptr);
   return e;
 }
 
@@ -135,6 +145,7 @@ nlohmann::json ToJson(const EvidenceEstimate& e) {
                         {"mean_log_likelihood", EvidenceNumber(e.mean_log_likelihood.at(k))},
                         {"var_log_likelihood", EvidenceNumber(e.var_log_likelihood.at(k))}};
     if (k < e.log_ratio.size()) r["log_ratio"] = EvidenceNumber(e.log_ratio[k]);
+    if (k < e.acceptance.size()) r["acceptance"] = EvidenceNumber(e.acceptance[k]);
     if (k < e.swap_acceptance.size()) r["swap_acceptance"] = EvidenceNumber(e.swap_acceptance[k]);
     rungs.push_back(std::move(r));
   }

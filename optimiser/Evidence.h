@@ -12,9 +12,9 @@
 //     log Z = ∫_0^1 E_β[log L] dβ by the trapezoid rule, corrected with the slopes
 //     d E_β[log L] / dβ = Var_β[log L] (Friel, Hurn & Wyse 2014), which makes the rule exact
 //     for cubics; the correction's size is the discretisation error the plain trapezoid has.
-// Monte Carlo errors by batch means of each estimator's linearisation, one term per ladder
-// iteration summed over the rungs, so autocorrelation within a rung and the correlation that
-// replica exchange puts between rungs both count.
+// Monte Carlo errors from each estimator's linearisation, one term per ladder iteration
+// summed over the rungs, so autocorrelation within a rung and the correlation that replica
+// exchange puts between rungs both count (SeriesStandardError).
 
 #include <string>
 #include <vector>
@@ -33,8 +33,8 @@ struct EvidenceEstimate {
   double discretisation = 0.0;
   // Per rung, β ascending: E_β[log L], Var_β[log L], and the stepping-stone log r_k
   // (rungs 0 … K − 1); per neighbour pair the swap acceptance (filled by the sampler, empty
-  // for draws given from outside).
-  std::vector<double> beta, mean_log_likelihood, var_log_likelihood, log_ratio, swap_acceptance;
+  // for draws given from outside), and per rung its acceptance (the same).
+  std::vector<double> beta, mean_log_likelihood, var_log_likelihood, log_ratio, swap_acceptance, acceptance;
   int draws = 0;    // per rung
   int batches = 0;  // batch means behind the standard errors
   // Whether the two estimators agree within √(se_ss² + se_ti²)·3 + discretisation.
@@ -43,7 +43,8 @@ struct EvidenceEstimate {
 
 // {"log_z_ss", "se_ss", "log_z_ti", "se_ti", "log_z_ti_trapezoid", "discretisation",
 //  "agree", "draws", "batches", "rungs": [{"beta", "mean_log_likelihood",
-//  "var_log_likelihood", "log_ratio"?, "swap_acceptance"?}]}; undefined numbers are null.
+//  "var_log_likelihood", "log_ratio"?, "acceptance"?, "swap_acceptance"?}]}, swap_acceptance
+//  with the rung above; undefined numbers are null.
 nlohmann::json ToJson(const EvidenceEstimate& estimate);
 std::string BriefReport(const EvidenceEstimate& estimate);
 
@@ -57,6 +58,13 @@ std::vector<double> EvidenceLadder(int intervals, double alpha = 0.3);
 // short for batch means, gives NaN standard errors; the estimates are still returned.
 EvidenceEstimate EstimateEvidence(const std::vector<double>& beta,
                                   const std::vector<std::vector<double>>& log_likelihoods);
+
+// Standard error of the mean of an autocorrelated series: the larger of batch means (below)
+// and sd/√ESS with Statistics.h's EffectiveSampleSize (Geyer's initial monotone sequence).
+// Either alone fell short of the spread over seeds on the closed-form targets when the
+// ladder's autocorrelation is long against the run (docs/internals/EVIDENCE.md); NaN for
+// fewer than 4 values, Geyer's alone from 4 to 15.
+double SeriesStandardError(const std::vector<double>& series, int* batches = nullptr);
 
 // Standard error of the mean of an autocorrelated series by non-overlapping batch means:
 // ⌊√n⌋ batches of ⌊n / ⌊√n⌋⌋ draws, the earliest draws left out when n does not divide.

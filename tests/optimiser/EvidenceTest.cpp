@@ -13,6 +13,7 @@
 #include "optimiser/Evidence.h"
 #include "optimiser/Random.h"
 #include "optimiser/Statistics.h"
+#include "tests/optimiser/Targets.h"
 
 namespace vkr::opt::test {
 namespace {
@@ -125,24 +126,17 @@ TEST(Evidence, ExactDrawsOfGaussianPowerPosteriors) {
     GaussianLadder g;
     g.d = d;
     const std::vector<double> beta = EvidenceLadder(16);
-    std::vector<double> ss, ti, se_ss, se_ti;
-    int ss_within = 0, ti_within = 0;
+    SeedSpread ss{g.LogZ(), 3.0}, ti{g.LogZ(), 3.0};
     for (uint64_t seed = 1; seed <= 20; ++seed) {
       Rng rng = Rng::ForStream(seed, 7);
       const EvidenceEstimate e = EstimateEvidence(beta, g.Draws(beta, 1000, rng));
-      ss.push_back(e.log_z_ss);
-      ti.push_back(e.log_z_ti);
-      se_ss.push_back(e.se_ss);
-      se_ti.push_back(e.se_ti);
-      ss_within += std::abs(e.log_z_ss - g.LogZ()) <= 3.0 * e.se_ss;
-      ti_within += std::abs(e.log_z_ti - g.LogZ()) <= 3.0 * e.se_ti;
+      ss.Add(e.log_z_ss, e.se_ss);
+      ti.Add(e.log_z_ti, e.se_ti);
     }
-    EXPECT_GE(ss_within, 19);
-    EXPECT_GE(ti_within, 19);
-    for (const auto& [values, errors] : {std::pair(ss, se_ss), std::pair(ti, se_ti)}) {
-      const double ratio = Mean(errors) / StandardDeviation(values);
-      EXPECT_GT(ratio, 0.5);
-      EXPECT_LT(ratio, 2.0);
+    for (const SeedSpread* spread : {&ss, &ti}) {
+      EXPECT_GE(spread->within, 19);
+      EXPECT_GT(spread->MeanError() / spread->Spread(), 0.5);
+      EXPECT_LT(spread->MeanError() / spread->Spread(), 2.0);
     }
   }
 }
