@@ -31,8 +31,8 @@ double LogMeanExp(const std::vector<double>& x) {
 
 }  // namespace
 
-double SeriesStandardError(const std::vector<double>& series, int* batches) {
-  const double batch_means = BatchMeansStandardError(series, batches);
+double SeriesStandardError(const std::vector<double>& series) {
+  const double batch_means = BatchMeansStandardError(series);
   const double ess = EffectiveSampleSize({series});
   const double geyer = std::isfinite(ess) && ess > 0.0 ? StandardDeviation(series) / std::sqrt(ess) : kNaN;
   if (std::isnan(batch_means) || std::isnan(geyer)) return std::isnan(geyer) ? batch_means : geyer;
@@ -133,8 +133,9 @@ EvidenceEstimate EstimateEvidence(const std::vector<double>& beta,
   }
   e.discretisation = std::abs(e.log_z_ti - e.log_z_ti_trapezoid);
 
-  e.se_ss = SeriesStandardError(ss_series, &e.batches);
-  e.se_ti = SeriesStandardError(ti_series, nullptr);
+  e.se_ss = SeriesStandardError(ss_series);
+  e.se_ti = SeriesStandardError(ti_series);
+  e.ess = e.se_ss > 0.0 ? std::pow(StandardDeviation(ss_series), 2) / (e.se_ss * e.se_ss) : kNaN;
   return e;
 }
 
@@ -157,7 +158,7 @@ nlohmann::json ToJson(const EvidenceEstimate& e) {
           {"discretisation", EvidenceNumber(e.discretisation)},
           {"agree", e.Agree()},
           {"draws", e.draws},
-          {"batches", e.batches},
+          {"ess", EvidenceNumber(e.ess)},
           {"rungs", rungs}};
 }
 
@@ -166,7 +167,7 @@ std::string BriefReport(const EvidenceEstimate& e) {
   o.imbue(std::locale::classic());
   o << std::fixed << std::setprecision(3) << "log Z = " << e.log_z_ss << " ± " << e.se_ss
     << " (stepping stone), " << e.log_z_ti << " ± " << e.se_ti << " (thermodynamic integration; trapezoid "
-    << e.log_z_ti_trapezoid << "), " << e.beta.size() << " rungs × " << e.draws << " draws"
+    << e.log_z_ti_trapezoid << "), " << e.beta.size() << " rungs × " << e.draws << " draws (ESS " << std::setprecision(0) << e.ess << ")"
     << (e.Agree() ? "" : "; the estimators disagree");
   return o.str();
 }

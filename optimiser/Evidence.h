@@ -36,13 +36,15 @@ struct EvidenceEstimate {
   // for draws given from outside), and per rung its acceptance (the same).
   std::vector<double> beta, mean_log_likelihood, var_log_likelihood, log_ratio, swap_acceptance, acceptance;
   int draws = 0;    // per rung
-  int batches = 0;  // batch means behind the standard errors
+  // Effective draws behind se_ss: the variance of its linearisation over se_ss². Below ~100
+  // the errors are themselves uncertain, and short (docs/internals/EVIDENCE.md).
+  double ess = 0.0;
   // Whether the two estimators agree within √(se_ss² + se_ti²)·3 + discretisation.
   bool Agree() const;
 };
 
 // {"log_z_ss", "se_ss", "log_z_ti", "se_ti", "log_z_ti_trapezoid", "discretisation",
-//  "agree", "draws", "batches", "rungs": [{"beta", "mean_log_likelihood",
+//  "agree", "draws", "ess", "rungs": [{"beta", "mean_log_likelihood",
 //  "var_log_likelihood", "log_ratio"?, "acceptance"?, "swap_acceptance"?}]}, swap_acceptance
 //  with the rung above; undefined numbers are null.
 nlohmann::json ToJson(const EvidenceEstimate& estimate);
@@ -64,7 +66,7 @@ EvidenceEstimate EstimateEvidence(const std::vector<double>& beta,
 // Either alone fell short of the spread over seeds on the closed-form targets when the
 // ladder's autocorrelation is long against the run (docs/internals/EVIDENCE.md); NaN for
 // fewer than 4 values, Geyer's alone from 4 to 15.
-double SeriesStandardError(const std::vector<double>& series, int* batches = nullptr);
+double SeriesStandardError(const std::vector<double>& series);
 
 // Standard error of the mean of an autocorrelated series by non-overlapping batch means:
 // ⌊√n⌋ batches of ⌊n / ⌊√n⌋⌋ draws, the earliest draws left out when n does not divide.
