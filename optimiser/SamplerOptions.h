@@ -157,7 +157,7 @@ struct SamplerOptions {
   // after it; SamplerSummary::evidence gives stepping-stone and thermodynamic-integration
   // estimates with their errors. It has its own random stream: the chains sample exactly as
   // without it. It adds evidence_rungs + 1 hypotheses to every frame once it runs (12
-  // rungs at the default schedule: about +40 % evaluations; a batch over the target's size
+  // rungs at the default schedule: about +45 % evaluations; a batch over the target's size
   // is evaluated in two calls). evidence_alpha = 0.3 is Xie et al. 2011's Beta(0.3, 1)
   // spacing, which crowds the rungs near the prior.
   int evidence_rungs = 0;
