@@ -61,6 +61,77 @@ std::vector<double> ReadPsi(const json& j, int d) {
   return v;
 }
 
+json ReplicaToJson(const Replica& r) {
+  return {{"psi", Numbers(r.psi)},
+          {"log_prior", JsonNumber(r.log_prior)},
+          {"log_likelihood", JsonNumber(r.log_likelihood)},
+          {"proposed", r.proposed},
+          {"accepted", r.accepted},
+          {"log_scale", JsonNumber(r.log_scale)},
+          {"adapt_count", r.adapt_count},
+          {"adapt_mean", Vector(r.adapt_mean)},
+          {"adapt_scatter", Matrix(r.adapt_scatter)}};
+}
+
+Replica ReplicaFromJson(const json& jr, int d) {
+  Replica r;
+  r.psi = ReadPsi(jr.at("psi"), d);
+  r.log_prior = ReadNumber(jr.at("log_prior"));
+  r.log_likelihood = ReadNumber(jr.at("log_likelihood"));
+  r.proposed = ReadInteger<int64_t>(jr.at("proposed"));
+  r.accepted = ReadInteger<int64_t>(jr.at("accepted"));
+  r.log_scale = ReadNumber(jr.at("log_scale"));
+  r.adapt_count = ReadInteger<int64_t>(jr.at("adapt_count"));
+  r.adapt_mean = ReadVector(jr.at("adapt_mean"), d);
+  r.adapt_scatter = ReadMatrix(jr.at("adapt_scatter"), d);
+  return r;
+}
+
+// Written only for runs with the ladder (SamplerOptions::evidence_rungs), so that other
+// checkpoints stay as they were; β comes back from the options.
+json EvidenceToJson(const EvidenceState& e) {
+  json j = {{"started", e.started}};
+  if (!e.started) return j;
+  j["start"] = e.start;
+  j["collect_from"] = e.collect_from;
+  j["rng"] = e.rng.State();
+  j["rungs"] = json::array();
+  for (const Replica& r : e.rungs) j["rungs"].push_back(ReplicaToJson(r));
+  j["guess"] = json::array();
+  for (const Eigen::MatrixXd& m : e.guess) j["guess"].push_back(Matrix(m));
+  j["swap_attempts"] = e.swap_attempts;
+  j["swap_accepts"] = e.swap_accepts;
+  j["draws"] = json::array();
+  for (const std::vector<double>& rung : e.draws) j["draws"].push_back(Numbers(rung));
+  return j;
+}
+
+EvidenceState EvidenceFromJson(const json& j, const State& s) {
+  EvidenceState e;
+  e.started = j.at("started").get<bool>();
+  if (!e.started) return e;
+  const int d = s.dimension();
+  e.start = ReadInteger<int>(j.at("start"));
+  e.collect_from = ReadInteger<int>(j.at("collect_from"));
+  if (!e.rng.SetState(j.at("rng").get<std::string>())) throw std::invalid_argument("evidence: unreadable RNG state");
+  e.beta = EvidenceLadder(s.options.evidence_rungs, s.options.evidence_alpha);
+  const size_t rungs = e.beta.size();
+  for (const json& jr : j.at("rungs")) e.rungs.push_back(ReplicaFromJson(jr, d));
+  for (const json& m : j.at("guess")) e.guess.push_back(ReadMatrix(m, d));
+  e.swap_attempts = ReadIntegers<int64_t>(j.at("swap_attempts"));
+  e.swap_accepts = ReadIntegers<int64_t>(j.at("swap_accepts"));
+  for (const json& rung : j.at("draws")) e.draws.push_back(ReadNumbers(rung));
+  if (e.rungs.size() != rungs || e.guess.size() != rungs || e.draws.size() != rungs ||
+      e.swap_attempts.size() != rungs - 1 || e.swap_accepts.size() != rungs - 1)
+    throw std::invalid_argument("evidence: not one entry per rung of the options' ladder");
+  const size_t collected = size_t(std::max(0, s.iteration - e.collect_from));
+  if (e.start < 0 || e.start > s.iteration || e.collect_from < e.start)
+    throw std::invalid_argument("evidence: start or collect_from out of range");
+  for (const std::vector<double>& rung : e.draws)
+    if (rung.size() != collected) throw std::invalid_argument("evidence: not one draw per rung per iteration");
+  return e;
+}
+
 }  // namespace
 
 json JsonNumber(double value) {
@@ -98,16 +169,7 @@ json StateToJson(const State& s) {
   for (const ChainState& c : s.chains) {
     json chain = {{"rng", c.rng.State()}, {"swap_attempts", c.swap_attempts},
                   {"swap_accepts", c.swap_accepts}, {"replicas", json::array()}};
-    for (const Replica& r : c.replicas)
-      chain["replicas"].push_back({{"psi", Numbers(r.psi)},
-                                   {"log_prior", JsonNumber(r.log_prior)},
-                                   {"log_likelihood", JsonNumber(r.log_likelihood)},
-                                   {"proposed", r.proposed},
-                                   {"accepted", r.accepted},
-                                   {"log_scale", JsonNumber(r.log_scale)},
-                                   {"adapt_count", r.adapt_count},
-                                   {"adapt_mean", Vector(r.adapt_mean)},
-                                   {"adapt_scatter", Matrix(r.adapt_scatter)}});
+    for (const Replica& r : c.replicas) chain["replicas"].push_back(ReplicaToJson(r));
     j["chains"].push_back(std::move(chain));
   }
 
@@ -150,6 +212,7 @@ json StateToJson(const State& s) {
   j["samples"] = {{"iteration", iteration}, {"chain", chain}, {"level", level},
                   {"temperature", temperature}, {"accepted", accepted}, {"swapped", swapped},
                   {"log_prior", log_prior}, {"log_likelihood", log_likelihood}, {"psi", psi}};
+  if (s.options.evidence_rungs > 0) j["evidence"] = EvidenceToJson(s.evidence);
   return j;
 }
 
@@ -193,19 +256,7 @@ State StateFromJson(const json& j) {
           int(c.swap_attempts.size()) != s.options.temperatures - 1 ||
           c.swap_accepts.size() != c.swap_attempts.size())
         throw std::invalid_argument("wrong number of replicas");
-      for (const json& jr : replicas) {
-        Replica r;
-        r.psi = ReadPsi(jr.at("psi"), d);
-        r.log_prior = ReadNumber(jr.at("log_prior"));
-        r.log_likelihood = ReadNumber(jr.at("log_likelihood"));
-        r.proposed = ReadInteger<int64_t>(jr.at("proposed"));
-        r.accepted = ReadInteger<int64_t>(jr.at("accepted"));
-        r.log_scale = ReadNumber(jr.at("log_scale"));
-        r.adapt_count = ReadInteger<int64_t>(jr.at("adapt_count"));
-        r.adapt_mean = ReadVector(jr.at("adapt_mean"), d);
-        r.adapt_scatter = ReadMatrix(jr.at("adapt_scatter"), d);
-        c.replicas.push_back(std::move(r));
-      }
+      for (const json& jr : replicas) c.replicas.push_back(ReplicaFromJson(jr, d));
       s.chains.push_back(std::move(c));
     }
 
@@ -266,6 +317,8 @@ State StateFromJson(const json& j) {
       row.psi = ReadPsi(rows["psi"][i], d);
       s.samples.push_back(std::move(row));
     }
+    // A run with the ladder cannot go on without it: its draws would start again mid-run.
+    if (s.options.evidence_rungs > 0) s.evidence = EvidenceFromJson(j.at("evidence"), s);
     return s;
   } catch (const nlohmann::json::exception& e) {
     throw std::invalid_argument(std::string("checkpoint: ") + e.what());

@@ -64,14 +64,16 @@ int State::AdaptStart() const {
   return std::max(options.AnnealIterations(), options.CoarseIterations());
 }
 
-bool State::SettlesAt(int t) const {
-  if (!options.settle || settle_rounds >= options.settle_rounds) return false;
+int State::NextSettleAt() const {
+  if (!options.settle || settle_rounds >= options.settle_rounds) return -1;
   // Rounds evenly spaced over the first half of what lies between the end of the
   // exploration and the end of the burn-in; the second half tunes the proposal.
   const int start = AdaptStart(), end = options.BurnIn();
   const int at = start + int(int64_t(end - start) * settle_rounds / (2 * options.settle_rounds));
-  return t == at && t < end;
+  return at < end ? at : -1;
 }
+
+bool State::SettlesAt(int t) const { return t >= 0 && t == NextSettleAt(); }
 
 void State::ConsiderBest(const std::vector<double>& psi, double log_prior, double log_likelihood) {
   const double lp = log_prior + log_likelihood;
@@ -266,6 +268,9 @@ struct Engine {
         batch.push_back(std::isfinite(proposal_prior.back()) ? proposals.back()
                                                              : c.replicas[k].psi);
       }
+    // The evidence ladder's hypotheses ride in the same batch (nothing when it is off).
+    EvidenceProposal ladder;
+    if (s.options.evidence_rungs > 0) ladder = EvidenceProposals(s, t, batch);
     const std::vector<double> values = Evaluate(batch);
 
     // Metropolis–Hastings on log p + log L / T.
@@ -318,6 +323,8 @@ struct Engine {
         }
       }
     }
+
+    if (!ladder.psi.empty()) EvidenceStep(s, t, std::move(ladder), values.data() + chains * temps);
 
     // Adaptation statistics (Welford), once the target distribution stopped moving.
     if (s.options.adapt && t >= s.AdaptStart())

@@ -33,12 +33,14 @@
 #include <functional>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <ostream>
 #include <string>
 #include <vector>
 
 #include <nlohmann/json.hpp>
 
+#include "optimiser/Evidence.h"
 #include "optimiser/Parameter.h"
 #include "optimiser/SamplerOptions.h"
 #include "optimiser/Target.h"
@@ -157,6 +159,9 @@ struct SamplerSummary {
   double max_rhat = 0.0, min_ess = 0.0;  // Progress's, at the end of sampling
   int refine_steps = 0;
   int64_t frames = 0, evaluations = 0;
+  // The log evidence from the evidence ladder (SamplerOptions::evidence_rungs); empty with
+  // the ladder off or before it has recorded 4 iterations.
+  std::optional<EvidenceEstimate> evidence;
 
   std::string BriefReport() const;  // one line
   std::string FullReport() const;   // a table per parameter and per chain
@@ -164,8 +169,9 @@ struct SamplerSummary {
 
 // map.json's sampler part (DESIGN.md, "Machine-readable outputs"): {"parameters": {NAME:
 // {"map", "mean", "sd", "q025", "q975", "ess", "rhat"}}, "log_likelihood", "log_prior",
-// "log_posterior", "chains": [{"acceptance", …}], "termination", …}; the caller adds
-// "settings". Undefined numbers are null.
+// "log_posterior", "chains": [{"acceptance", …}], "termination", …, "evidence"? (ToJson of
+// Evidence.h, only with the evidence ladder)}; the caller adds "settings". Undefined numbers
+// are null.
 nlohmann::json MapJson(const SamplerSummary& summary);
 // chain.csv: a header `iteration,chain,level,temperature,accepted,swapped,log_posterior,
 // log_likelihood,log_prior,<names…>`, one row per Sample, classic locale, full precision.

@@ -48,6 +48,8 @@ void ForEachField(Options& o, F&& f) {
   f("polish_evaluations", o.polish_evaluations);
   f("finer_atlas_polish", o.finer_atlas_polish);
   f("start_search", o.start_search);
+  f("evidence_rungs", o.evidence_rungs);
+  f("evidence_alpha", o.evidence_alpha);
   f("seed", o.seed);
 }
 
@@ -118,6 +120,10 @@ bool SamplerOptions::IsValid(std::string* why) const {
     return OptionsFail(why, "refine_difference must lie in (0, 0.5)");
   if (!(std::isfinite(refine_tolerance) && refine_tolerance > 0.0))
     return OptionsFail(why, "refine_tolerance must be > 0");
+  if (evidence_rungs < 0 || evidence_rungs == 1 || evidence_rungs > 1000)
+    return OptionsFail(why, "evidence_rungs must be 0 (off) or from 2 to 1000");
+  if (!(std::isfinite(evidence_alpha) && evidence_alpha > 0.0 && evidence_alpha <= 1.0))
+    return OptionsFail(why, "evidence_alpha must lie in (0, 1]");
   return true;
 }
 

@@ -149,6 +149,20 @@ struct SamplerOptions {
   // chains' intervals; where it lies outside them the diagnosis says so.
   double start_search = 100.0;
 
+  // Log evidence (docs/internals/EVIDENCE.md): 0 turns it off. Otherwise one more ladder of
+  // evidence_rungs + 1 replicas at β_k = (k/K)^(1/evidence_alpha), k = 0 … K = evidence_rungs,
+  // from the prior (β = 0) to the posterior (β = 1), samples L^β·π with replica exchange
+  // from the end of settling (or of the exploration) on, tunes its proposals until the
+  // burn-in ends (at least 2·adapt_min_samples iterations), and records every rung's log L
+  // after it; SamplerSummary::evidence gives stepping-stone and thermodynamic-integration
+  // estimates with their errors. It has its own random stream: the chains sample exactly as
+  // without it. It adds evidence_rungs + 1 hypotheses to every frame once it runs (12
+  // rungs at the default schedule: about +45 % evaluations; a batch over the target's size
+  // is evaluated in two calls). evidence_alpha = 0.3 is Xie et al. 2011's Beta(0.3, 1)
+  // spacing, which crowds the rungs near the prior.
+  int evidence_rungs = 0;
+  double evidence_alpha = 0.3;
+
   uint64_t seed = 1;
 
   // Whether every field is in range; otherwise `why` names the field and the problem.

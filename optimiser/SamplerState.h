@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <functional>
 #include <limits>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -13,6 +14,7 @@
 #include <Eigen/Dense>
 #include <nlohmann/json.hpp>
 
+#include "optimiser/Evidence.h"
 #include "optimiser/Parameter.h"
 #include "optimiser/Random.h"
 #include "optimiser/Sampler.h"
@@ -46,6 +48,24 @@ struct ChainState {
   Rng rng;
   std::vector<Replica> replicas;  // coldest first
   std::vector<int64_t> swap_attempts, swap_accepts;  // per neighbour pair (k, k + 1)
+};
+
+// The evidence ladder (SamplerOptions::evidence_rungs): one more chain whose replicas sit at
+// fixed β from 0 to 1 and target L^β·π. Each rung tunes its own proposal (the power
+// posterior at β = 0.001 is the prior's width, at β = 1 the posterior's) until
+// collect_from, then keeps it fixed and records its log L every iteration.
+struct EvidenceState {
+  bool started = false;
+  int start = 0;         // first iteration it ran
+  int collect_from = 0;  // first iteration whose states are recorded
+  Rng rng;
+  std::vector<double> beta;     // ascending, 0 … 1
+  std::vector<Replica> rungs;   // one per β (Replica's counters and tuning serve as they are)
+  // First guess of each rung's proposal covariance: (β H + P⁻¹)⁻¹, H the Laplace precision
+  // at the mode (settling's), P the prior's variances.
+  std::vector<Eigen::MatrixXd> guess;
+  std::vector<int64_t> swap_attempts, swap_accepts;  // per neighbour pair (k, k + 1)
+  std::vector<std::vector<double>> draws;           // [rung][iteration − collect_from]: log L
 };
 
 // The best hypothesis scored at `level` (reset when the level changes).
@@ -94,6 +114,7 @@ struct State {
   nlohmann::json calibration;
   Eigen::MatrixXd laplace;
   std::vector<Sample> samples;  // iteration-major: all chains of iteration 0, then 1, …
+  EvidenceState evidence;
 
   int dimension() const { return int(parameters.size()); }
   int batch() const { return options.chains * options.temperatures; }
@@ -103,6 +124,7 @@ struct State {
   double Temperature(int iteration, int replica) const;
   int AdaptStart() const;                 // first iteration whose states adaptation collects
   bool SettlesAt(int iteration) const;    // whether settling comes before this iteration
+  int NextSettleAt() const;               // iteration of the next settling round; −1: none due
   // Records an evaluated hypothesis as the best so far at the current level if it is.
   void ConsiderBest(const std::vector<double>& psi, double log_prior, double log_likelihood);
 };
@@ -124,6 +146,20 @@ void StartRefinement(State& state);
 void RefineFrame(State& state, const BatchEvaluator& evaluate);
 // Settle.cpp: the frame after the settling refinement (calibration, curvature, restart).
 void RestartFrame(State& state, Target& target, const BatchEvaluator& evaluate);
+
+// EvidenceSampling.cpp: the evidence ladder's part of a sampling frame. EvidenceProposals
+// starts the ladder when its time has come and appends one hypothesis per rung to `batch`
+// (a proposal outside the support is carried as the rung's current state); EvidenceStep
+// takes their log-likelihoods (`values`, as many) after the chains' step of iteration t.
+struct EvidenceProposal {
+  std::vector<std::vector<double>> psi;
+  std::vector<double> log_prior;
+  std::vector<char> from_prior;  // an independent draw from the prior (β = 0): accepted when scored
+};
+EvidenceProposal EvidenceProposals(State& state, int t, std::vector<std::vector<double>>& batch);
+void EvidenceStep(State& state, int t, EvidenceProposal proposal, const double* values);
+// The estimate from the recorded draws; nullopt with the ladder off or fewer than 4 draws.
+std::optional<EvidenceEstimate> EstimateFromLadder(const State& state);
 
 // Checkpoint.cpp. StateFromJson throws std::invalid_argument naming what is wrong.
 nlohmann::json StateToJson(const State& state);

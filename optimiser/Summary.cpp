@@ -123,6 +123,7 @@ SamplerSummary Summarise(const State& s) {
     cs.acceptance = cs.replica_acceptance.front();
     out.chains.push_back(cs);
   }
+  out.evidence = EstimateFromLadder(s);
   return out;
 }
 
@@ -191,6 +192,7 @@ std::string SamplerSummary::FullReport() const {
     for (double a : chains[c].swap_acceptance) o << " " << Fixed(a, 3);
     o << "\n";
   }
+  if (evidence) o << "\n" << opt::BriefReport(*evidence) << "\n";
   return o.str();
 }
 
@@ -211,21 +213,23 @@ nlohmann::json MapJson(const SamplerSummary& s) {
                       {"replica_acceptance", replica},
                       {"swap_acceptance", swap}});
   }
-  return {{"parameters", parameters},
-          {"log_likelihood", Nullable(s.map_log_likelihood)},
-          {"log_prior", Nullable(s.map_log_prior)},
-          {"log_posterior", Nullable(s.map_log_posterior)},
-          {"chains", chains},
-          {"calibration", s.calibration},
-          {"termination", ToString(s.termination)},
-          {"message", s.message},
-          {"iterations", s.iterations},
-          {"burn_in", s.burn_in},
-          {"sampling",
-           {{"ended_by", s.ended_by}, {"max_rhat", Nullable(s.max_rhat)}, {"min_ess", Nullable(s.min_ess)}}},
-          {"refine_steps", s.refine_steps},
-          {"frames", s.frames},
-          {"evaluations", s.evaluations}};
+  nlohmann::json j = {{"parameters", parameters},
+                      {"log_likelihood", Nullable(s.map_log_likelihood)},
+                      {"log_prior", Nullable(s.map_log_prior)},
+                      {"log_posterior", Nullable(s.map_log_posterior)},
+                      {"chains", chains},
+                      {"calibration", s.calibration},
+                      {"termination", ToString(s.termination)},
+                      {"message", s.message},
+                      {"iterations", s.iterations},
+                      {"burn_in", s.burn_in},
+                      {"sampling",
+                       {{"ended_by", s.ended_by}, {"max_rhat", Nullable(s.max_rhat)}, {"min_ess", Nullable(s.min_ess)}}},
+                      {"refine_steps", s.refine_steps},
+                      {"frames", s.frames},
+                      {"evaluations", s.evaluations}};
+  if (s.evidence) j["evidence"] = ToJson(*s.evidence);
+  return j;
 }
 
 void WriteChainCsv(std::ostream& out, const std::vector<Sample>& chain,

@@ -12,6 +12,7 @@
 
 #include "optimiser/Parameter.h"
 #include "optimiser/Sampler.h"
+#include "optimiser/Statistics.h"
 #include "optimiser/Target.h"
 
 namespace vkr::opt::test {
@@ -74,6 +75,21 @@ class RecordingTarget : public Target {
   std::function<double(const std::vector<double>&, int)> f_;
   int max_batch_, levels_, level_ = 0;
   std::vector<ParameterSpec> parameters_;
+};
+
+// Estimates of one known number over seeds, each with its stated standard error: how many
+// fell within k stated errors of the truth, and the mean stated error against the spread.
+struct SeedSpread {
+  double truth = 0.0, k = 2.0;
+  std::vector<double> estimates, errors;
+  int within = 0;
+  void Add(double estimate, double error) {
+    estimates.push_back(estimate);
+    errors.push_back(error);
+    within += std::abs(estimate - truth) <= k * error;
+  }
+  double MeanError() const { return Mean(errors); }
+  double Spread() const { return StandardDeviation(estimates); }
 };
 
 // Bitwise equality of doubles (NaN equal to NaN of the same bits).
