@@ -15,16 +15,20 @@
 #include <map>
 #include <sstream>
 
-#include "apps/Fit.h"
-#include "apps/Reconstruct.h"
-#include "apps/SceneTarget.h"
 #include "engine/common/InputError.h"
 #include "pipelines/rendering/ViewRendering.h"
+#include "recon/AtomicWrite.h"
+#include "recon/Fit.h"
+#include "recon/Reconstruct.h"
+#include "recon/SearchSetup.h"
 
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
 
 namespace vkr::app {
+
+using namespace recon;
+
 namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();

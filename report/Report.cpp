@@ -1,4 +1,4 @@
-#include "apps/Report.h"
+#include "report/Report.h"
 
 #include <algorithm>
 #include <cmath>
@@ -9,7 +9,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
-#include "apps/ReportAssets.h"
+#include "report/ReportAssets.h"
 #include "engine/common/InputError.h"
 #include "pipelines/rendering/WireframeOverlay.h"
 
@@ -20,10 +20,8 @@
 namespace fs = std::filesystem;
 using nlohmann::json;
 
-namespace vkr::app {
+namespace vkr::report {
 namespace {
-
-using report::Html;
 
 // The page stays under 5 MB: the libraries take about 1.2 MB, model.glb at most this much,
 // and the images what is left of their budget (ImageDataUri halves their size until they fit).
@@ -390,4 +388,4 @@ void WriteRunReport(const fs::path& output_dir, const Scene& scene, const SceneG
   }
 }
 
-}  // namespace vkr::app
+}  // namespace vkr::report

@@ -1,10 +1,10 @@
 // The static parts of report.html: its style, the error hook a browser check reads, and the
 // scripts that draw the plots with Chart.js and the 3D view with three.js (both inlined by
-// apps/Report.cpp from Debian's packages). The data comes from <script id="report-data">.
+// report/Report.cpp from Debian's packages). The data comes from <script id="report-data">.
 
-#include "apps/ReportAssets.h"
+#include "report/ReportAssets.h"
 
-namespace vkr::app::report {
+namespace vkr::report {
 
 const char* PageStyle() {
   return R"CSS(
@@ -326,4 +326,4 @@ const char* ModelViewScript() {
 )JS";
 }
 
-}  // namespace vkr::app::report
+}  // namespace vkr::report

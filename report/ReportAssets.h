@@ -1,5 +1,5 @@
 #pragma once
-// What report.html is made of besides its layout (apps/Report.cpp): images as data URIs
+// What report.html is made of besides its layout (report/Report.cpp): images as data URIs
 // within a size budget, the chain as compact JSON for the plots, the JavaScript libraries
 // read from Debian's packages, and the page's own style and script (ReportPage.cpp).
 
@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-namespace vkr::app::report {
+namespace vkr::report {
 
 std::string Base64(const std::string& bytes);
 // Escapes &, <, >, " for HTML text and attribute values.
@@ -39,4 +39,4 @@ const char* ErrorHook();
 const char* PageScript();
 const char* ModelViewScript();
 
-}  // namespace vkr::app::report
+}  // namespace vkr::report
