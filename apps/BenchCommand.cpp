@@ -5,9 +5,9 @@
 #include <iostream>
 
 #include "apps/Commands.h"
-#include "apps/PeersBench.h"
-#include "engine/common/InputError.h"
 #include "bench/harness/Bench.h"
+#include "bench/peers/PeersBench.h"
+#include "engine/common/InputError.h"
 
 namespace fs = std::filesystem;
 
@@ -32,7 +32,7 @@ fs::path FindAssets(const std::string& given) {
   return candidates.front();
 }
 
-// `--only peers` (PeersBench.h): the MAP searches of `run` and NLopt compared, a Markdown
+// `--only peers` (bench/peers/PeersBench.h): the MAP searches of `run` and NLopt compared, a Markdown
 // table on stdout (or --json).
 int RunPeersBench(bool quick, bool json, bool quiet, const fs::path& assets, const std::string& work, bool resume,
                   int device_index) {

@@ -1,9 +1,9 @@
-// `vkrecon fit`: parses its options and calls FitMap (apps/Fit.h).
+// `vkrecon fit`: parses its options and calls FitMap (recon/Fit.h).
 #include <iostream>
 
 #include "apps/Commands.h"
-#include "apps/Fit.h"
 #include "engine/common/InputError.h"
+#include "recon/Fit.h"
 
 namespace vkr::app {
 
@@ -19,7 +19,7 @@ int RunFit(int argc, char** argv) {
       "when converged; the global ones (crs2lm, isres) spend the budget.",
       "fit");
   SceneArgs scene;
-  FitOptions options;
+  recon::FitOptions options;
   std::string out, method = "bobyqa";
   AddSceneArgs(app, scene);
   app.add_option("-o,--output", out, "output folder")->required();
@@ -39,9 +39,9 @@ int RunFit(int argc, char** argv) {
   options.scene_file = scene.scene;
   options.overrides = ParseOverrides(scene.sets);
   options.output_dir = out;
-  CheckFitOptions(options);  // bad input fails before the device opens
+  recon::CheckFitOptions(options);  // bad input fails before the device opens
   auto device = OpenDevice(scene.device);
-  const FitResult result = FitMap(options, *device);
+  const recon::FitResult result = recon::FitMap(options, *device);
   if (!options.quiet)
     std::cerr << "vkrecon fit: wrote " << result.map_json.string() << " (" << device->name() << ")\n";
   return FinishWithDevice(*device, 0);

@@ -1,7 +1,7 @@
 #include <iostream>
 
 #include "apps/Commands.h"
-#include "apps/Report.h"
+#include "report/Report.h"
 
 namespace vkr::app {
 
@@ -16,7 +16,7 @@ int RunReport(int argc, char** argv) {
       "and libjs-three (VKRECON_JAVASCRIPT_DIR, default /usr/share/javascript); without them the page keeps "
       "its tables and images and says what it left out. docs/REPORT.md.",
       "report");
-  ReportOptions options;
+  report::ReportOptions options;
   std::string out, truth;
   bool quiet = false;
   app.add_option("output", out, "a run's output folder (the -o of vkrecon run)")->required();
@@ -25,7 +25,7 @@ int RunReport(int argc, char** argv) {
   if (auto status = Parse(app, argc, argv)) return *status;
   options.output_dir = out;
   options.truth_file = truth;
-  const ReportResult result = WriteReport(options);
+  const report::ReportResult result = report::WriteReport(options);
   for (const std::string& l : result.left_out) std::cerr << "vkrecon report: warning: left out " << l << "\n";
   if (!quiet)
     std::cerr << "vkrecon report: wrote " << result.file.string() << " (" << (result.bytes + 512) / 1024 << " KiB)\n";

@@ -9,12 +9,17 @@
 #include <iostream>
 
 #include "apps/Commands.h"
-#include "apps/Ranks.h"
-#include "apps/Reconstruct.h"
-#include "apps/SceneList.h"
 #include "engine/common/InputError.h"
+#include "recon/Ranks.h"
+#include "recon/Reconstruct.h"
+#include "recon/SceneList.h"
 
 namespace vkr::app {
+
+using recon::Ranks;
+using recon::ReconstructOptions;
+using recon::ReconstructResult;
+
 namespace {
 
 // Under MPI without --device or VKRECON_DEVICE: the node's GPUs shared out by local rank
@@ -82,26 +87,26 @@ int RunRun(int argc, char** argv) {
   options.scene_file = scene.scene;
   options.overrides = ParseOverrides(scene.sets);
   options.output_dir = out;
-  if (IsSceneList(scene.scene)) return RunMany(options, scene, out);
+  if (recon::IsSceneList(scene.scene)) return RunMany(options, scene, out);
   const Ranks& ranks = Ranks::World();
   if (!ranks.distributed()) {
     auto device = OpenDevice(scene.device);
-    std::signal(SIGINT, [](int) { RequestStop(); });
-    return FinishRun(options, scene.scene, out, Reconstruct(options, *device), *device);
+    std::signal(SIGINT, [](int) { recon::RequestStop(); });
+    return FinishRun(options, scene.scene, out, recon::Reconstruct(options, *device), *device);
   }
   // One of several MPI ranks (docs/SCALE_OUT.md). A rank that fails must end the whole job:
   // the others would wait for it forever in the next exchange.
   const std::string resume = "mpirun -n " + std::to_string(ranks.size()) + " vkrecon run " + scene.scene + " -o " + out + " --resume";
   try {
     auto device = OpenDevice(RankDevice(scene.device, ranks));
-    std::signal(SIGINT, [](int) { RequestStop(); });
+    std::signal(SIGINT, [](int) { recon::RequestStop(); });
     if (ranks.rank() == 0) {
       g_terminated_message = "\nvkrecon run: the MPI job was ended (a rank failed or was killed; mpirun names it): no "
                              "result was written; the last checkpoint is in " + out + "/checkpoint.json; continue with the same command and --resume: " +
                              resume + "\n";
       std::signal(SIGTERM, OnTerminate);
     }
-    const ReconstructResult result = Reconstruct(options, *device);
+    const ReconstructResult result = recon::Reconstruct(options, *device);
     if (ranks.rank() != 0) return FinishWithDevice(*device, 0);
     return FinishRun(options, scene.scene, out, result, *device, resume);
   } catch (const InputError& e) {
@@ -141,9 +146,9 @@ int ExitStatus(ListedOutcome o) {
 // worst of theirs.
 int RunMany(const ReconstructOptions& options, const SceneArgs& args, const std::string& out) {
   const Ranks& ranks = Ranks::World();
-  const std::vector<ListedScene> scenes = ReadSceneList(args.scene);
+  const std::vector<recon::ListedScene> scenes = recon::ReadSceneList(args.scene);
   auto device = OpenDevice(RankDevice(args.device, ranks));
-  std::signal(SIGINT, [](int) { RequestStop(); });
+  std::signal(SIGINT, [](int) { recon::RequestStop(); });
   const size_t n = scenes.size();
   std::vector<double> mine(2 * n, std::nan(""));  // per scene: outcome, seconds
   bool stopped = false;
@@ -158,7 +163,7 @@ int RunMany(const ReconstructOptions& options, const SceneArgs& args, const std:
       one.one_process = true;
       one.quiet = options.quiet || ranks.distributed();  // one progress line per terminal
       try {
-        const ReconstructResult r = Reconstruct(one, *device);
+        const ReconstructResult r = recon::Reconstruct(one, *device);
         if (!r.completed) stopped = true;
         else outcome = r.failed ? ListedOutcome::ModelError : r.diagnosis_ok ? ListedOutcome::Ok : ListedOutcome::NotOk;
         for (const std::string& note : r.notes) std::cerr << "vkrecon run: " << scenes[i].name << ": note: " << note << "\n";

@@ -5,8 +5,9 @@
 function(vkr_add_header_check target)
   file(GLOB_RECURSE headers RELATIVE ${PROJECT_SOURCE_DIR} CONFIGURE_DEPENDS
        ${PROJECT_SOURCE_DIR}/engine/*.h ${PROJECT_SOURCE_DIR}/pipelines/*.h
-       ${PROJECT_SOURCE_DIR}/optimiser/*.h ${PROJECT_SOURCE_DIR}/apps/*.h
-       ${PROJECT_SOURCE_DIR}/bench/harness/*.h ${PROJECT_SOURCE_DIR}/tests/*.h)
+       ${PROJECT_SOURCE_DIR}/optimiser/*.h ${PROJECT_SOURCE_DIR}/report/*.h
+       ${PROJECT_SOURCE_DIR}/recon/*.h ${PROJECT_SOURCE_DIR}/apps/*.h
+       ${PROJECT_SOURCE_DIR}/bench/harness/*.h ${PROJECT_SOURCE_DIR}/bench/peers/*.h ${PROJECT_SOURCE_DIR}/tests/*.h)
   set(sources)
   foreach(header ${headers})
     string(MAKE_C_IDENTIFIER ${header} id)

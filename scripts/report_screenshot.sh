@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Opens a run's report.html in headless Chromium, saves a screenshot, and fails when the page
 # reports an error. The page records every uncaught error, failed resource and console.error
-# in its #report-errors list (apps/ReportPage.cpp), which the DOM dump shows; it also marks
+# in its #report-errors list (report/error_hook.js), which the DOM dump shows; it also marks
 # <body> once its plots are drawn, so a script that never ran is caught too.
 # Usage: scripts/report_screenshot.sh REPORT.html SCREENSHOT.png
 # Exit status: 0 clean, 1 page errors (listed on stderr) or Chromium failed, 2 usage,

@@ -51,7 +51,7 @@ struct NoiseCalibration {
   double chi2_per_dof = 0.0;     // S/σ²/N at the mode with the σ above
   nlohmann::json photometric;    // the per-camera colour correction (Photometric.h), or null
   // What the photographs show that the scene leaves out, masked from then on (ClutterMasks.h;
-  // not in ToJson: images travel as files, apps/ keeps them).
+  // not in ToJson: images travel as files, recon/LikelihoodTarget.h keeps them).
   ClutterMasks clutter;
 
   bool CurvatureDoubtful() const { return kappa_min < kMinSandwichEigenvalue; }

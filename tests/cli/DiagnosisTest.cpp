@@ -1,12 +1,12 @@
-// The diagnosis of a reconstruction (apps/Diagnosis.h) is ok only on positive evidence, and
+// The diagnosis of a reconstruction (recon/Diagnosis.h) is ok only on positive evidence, and
 // otherwise names what disagrees: a node, a photograph, clutter, chains that disagree, or a
 // model that explains nothing.
 
 #include <gtest/gtest.h>
 
-#include "apps/Diagnosis.h"
+#include "recon/Diagnosis.h"
 
-namespace vkr::app {
+namespace vkr::recon {
 namespace {
 
 Scene OneParameterScene() {
@@ -183,4 +183,4 @@ TEST(Diagnosis, AModelThatExplainsNothingFails) {
 }
 
 }  // namespace
-}  // namespace vkr::app
+}  // namespace vkr::recon

@@ -1,4 +1,4 @@
-// The polish at the finer atlas (apps/FinerAtlasPolish.h) finds the mode of the likelihood at
+// The polish at the finer atlas (recon/FinerAtlasPolish.h) finds the mode of the likelihood at
 // twice the atlas's side, starting from the run's MAP, and measures how far it lies in
 // posterior sds.
 // On photographs of the box at its truth: from the truth it stays put, from a MAP five sds
@@ -8,13 +8,13 @@
 
 #include <cmath>
 
-#include "apps/FinerAtlasPolish.h"
-#include "apps/SceneTarget.h"
+#include "recon/FinerAtlasPolish.h"
+#include "recon/SearchSetup.h"
 #include "pipelines/rendering/ViewRendering.h"
 #include "tests/common/GpuTest.h"
 #include "tests/common/TestFiles.h"
 
-namespace vkr::app {
+namespace vkr::recon {
 namespace {
 
 namespace fs = std::filesystem;
@@ -174,4 +174,4 @@ TEST(AdoptPolishedMap, TheMovedIntervalStaysInsideThePriorAndTheBounds) {
 }
 
 }  // namespace
-}  // namespace vkr::app
+}  // namespace vkr::recon

@@ -1,4 +1,4 @@
-// `vkrecon bench --only peers --quick` (apps/PeersBench.h): one seed of box and poster, every
+// `vkrecon bench --only peers --quick` (bench/peers/PeersBench.h): one seed of box and poster, every
 // method; the JSON has a row per asset and method whose numbers hang together — budgets kept,
 // "reached" only with what it took, errors of a search that found the box, not of the prior.
 

@@ -15,7 +15,7 @@
 #include <nlohmann/json.hpp>
 #include <thread>
 
-#include "apps/DistributedTarget.h"
+#include "recon/DistributedTarget.h"
 #include "tests/cli/CliTestUtil.h"
 #include "tests/common/TestFiles.h"
 
@@ -50,10 +50,10 @@ std::string BoxRun(const fs::path& dir, int iterations = 40) {
 
 
 TEST(ScaleOut, SlicesAreContiguousAndBalanced) {
-  const app::Slices s = app::SliceBatch(10, 4);
+  const recon::Slices s = recon::SliceBatch(10, 4);
   EXPECT_EQ(s.counts, (std::vector<int>{3, 3, 2, 2}));
   EXPECT_EQ(s.offsets, (std::vector<int>{0, 3, 6, 8}));
-  const app::Slices few = app::SliceBatch(2, 4);  // fewer hypotheses than ranks: some idle
+  const recon::Slices few = recon::SliceBatch(2, 4);  // fewer hypotheses than ranks: some idle
   EXPECT_EQ(few.counts, (std::vector<int>{1, 1, 0, 0}));
   EXPECT_EQ(few.offsets, (std::vector<int>{0, 1, 2, 2}));
 }

@@ -1,4 +1,4 @@
-// LikelihoodTarget::ScoreModes (apps/SceneTarget.h): two modes compared without the bias of a
+// LikelihoodTarget::ScoreModes (recon/LikelihoodTarget.h): two modes compared without the bias of a
 // calibration made at one of them. The case is the peers bench's poster at σ 16, noise seed
 // 4, where the chains settled with the column 10 % of its prior too short: calibrated there,
 // the clutter masks take out the column's top in the photographs (what that mode fails to
@@ -10,12 +10,13 @@
 
 #include <memory>
 
-#include "apps/SceneTarget.h"
+#include "recon/LikelihoodTarget.h"
+#include "recon/SearchSetup.h"
 #include "pipelines/rendering/ViewRendering.h"
 #include "tests/common/GpuTest.h"
 #include "tests/common/TestFiles.h"
 
-namespace vkr::app {
+namespace vkr::recon {
 namespace {
 
 namespace fs = std::filesystem;
@@ -83,4 +84,4 @@ TEST_F(ScoreModesTest, MasksAndColoursFittedAtAWrongModeNoLongerProtectIt) {
 }
 
 }  // namespace
-}  // namespace vkr::app
+}  // namespace vkr::recon

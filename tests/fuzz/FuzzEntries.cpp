@@ -174,7 +174,7 @@ Outcome Gltf(Bytes input) {
 }
 
 Outcome Checkpoint(Bytes input) {
-  // apps/Reconstruct.cpp reads the file into JSON and builds the sampler from it, and turns
+  // recon/Reconstruct.cpp reads the file into JSON and builds the sampler from it, and turns
   // the JSON parser's errors and the sampler's std::invalid_argument into InputError.
   nlohmann::json state;
   try {

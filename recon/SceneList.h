@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-namespace vkr::app {
+namespace vkr::recon {
 
 struct ListedScene {
   std::string name;                // its output folder under OUT
@@ -24,4 +24,4 @@ bool IsSceneList(const std::filesystem::path& path);
 // name, or an empty list.
 std::vector<ListedScene> ReadSceneList(const std::filesystem::path& path);
 
-}  // namespace vkr::app
+}  // namespace vkr::recon

@@ -10,10 +10,10 @@
 
 #include <nlohmann/json.hpp>
 
-#include "apps/Ranks.h"
+#include "recon/Ranks.h"
 #include "optimiser/Target.h"
 
-namespace vkr::app {
+namespace vkr::recon {
 
 // The slices of a batch of n hypotheses over `ranks` ranks: contiguous, in the batch's order,
 // sizes differing by at most one (the first n mod ranks get one more). Each hypothesis is
@@ -72,4 +72,4 @@ class DistributedTarget : public opt::Target {
 // request), "bytes_per_call", "messages_per_call", "share" (exchange / evaluate)}; null elsewhere.
 nlohmann::json ExchangeCost(const ExchangeTimes& times, const Ranks& ranks, int batch);
 
-}  // namespace vkr::app
+}  // namespace vkr::recon

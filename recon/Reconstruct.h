@@ -11,9 +11,9 @@
 #include "engine/scene/Scene.h"
 #include "engine/vk/Device.h"
 
-namespace vkr::app {
+namespace vkr::recon {
 
-// What a caller (the peers benchmark, apps/PeersBench.h) may watch of a run as it goes,
+// What a caller (the peers benchmark, bench/peers/PeersBench.h) may watch of a run as it goes,
 // rather than parsing its output. Called on rank 0 and every other rank alike.
 struct RunObserver {
   // After every scoring call of the likelihood: its level and how many hypotheses it scored.
@@ -54,4 +54,4 @@ ReconstructResult Reconstruct(const ReconstructOptions& options, vk::Device& dev
 // Asks a running Reconstruct to checkpoint and stop after the current frame (SIGINT).
 void RequestStop();
 
-}  // namespace vkr::app
+}  // namespace vkr::recon

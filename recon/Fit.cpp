@@ -1,4 +1,4 @@
-#include "apps/Fit.h"
+#include "recon/Fit.h"
 
 #include <chrono>
 #include <cmath>
@@ -7,12 +7,14 @@
 
 #include <nlohmann/json.hpp>
 
-#include "apps/SceneTarget.h"
+#include "recon/AtomicWrite.h"
+#include "recon/LikelihoodTarget.h"
+#include "recon/SearchSetup.h"
 #include "engine/common/InputError.h"
 
 namespace fs = std::filesystem;
 
-namespace vkr::app {
+namespace vkr::recon {
 namespace {
 
 // One line per tenth of the budget and per level: a search of a few minutes says where it is.
@@ -109,4 +111,4 @@ FitResult FitMap(const FitOptions& options, vk::Device& device) {
   return result;
 }
 
-}  // namespace vkr::app
+}  // namespace vkr::recon

@@ -1,12 +1,10 @@
 #pragma once
-// A scene's likelihood as the optimiser sees it (an opt::Target), and the set-up every
-// command that searches a scene's parameters shares: `run` samples it (Reconstruct.h), `fit`
-// searches its mode with NLopt (Fit.h), the peers benchmark does both (PeersBench.h).
+// A scene's likelihood as the optimiser sees it (an opt::Target): `run` samples it
+// (Reconstruct.h), `fit` searches its mode with NLopt (Fit.h), the peers benchmark does both
+// (bench/peers/PeersBench.h). SearchSetup.h makes the likelihood it wraps.
 
-#include <cstdint>
 #include <filesystem>
 #include <functional>
-#include <memory>
 #include <string>
 #include <vector>
 
@@ -14,18 +12,11 @@
 
 #include "engine/image/Image.h"
 #include "engine/scene/Scene.h"
-#include "engine/vk/Device.h"
-#include "optimiser/Parameter.h"
 #include "optimiser/Target.h"
 #include "pipelines/likelihood/Likelihood.h"
 #include "pipelines/likelihood/NoiseCalibration.h"
 
-namespace vkr::app {
-
-// Writes through a temporary file and a rename: a run killed mid-write leaves the previous
-// file (a checkpoint) intact.
-void WriteAtomically(const std::filesystem::path& file, const std::string& text);
-void WritePngAtomically(const std::filesystem::path& file, const Image& image);
+namespace vkr::recon {
 
 // Where a checkpoint's clutter masks live, relative to the output folder. Each settling
 // round may find other masks; a file named by its content is never overwritten with other
@@ -78,18 +69,4 @@ class LikelihoodTarget : public opt::Target {
   bool calibrated_ = false;
 };
 
-// The scene file with its overrides and "auto" likelihood settings resolved (map.json reports
-// what was used). InputError for bad input, and for a scene without parameters.
-Scene LoadSearchScene(const std::filesystem::path& file, const std::vector<SceneOverride>& overrides);
-
-// The scene's likelihood, scoring batches of up to `max_batch`, with its first colour
-// correction made (see the .cpp) and left at level 0.
-std::unique_ptr<Likelihood> MakeSearchLikelihood(vk::Device& device, const Scene& scene, int max_batch);
-
-// Before spending minutes: can the cameras see the scene at all? InputError if not.
-void PreflightVisibility(const Scene& scene, Likelihood& likelihood);
-
-// The optimiser's description of the scene's parameters, in the scene's order.
-std::vector<opt::ParameterSpec> ParameterSpecs(const Scene& scene);
-
-}  // namespace vkr::app
+}  // namespace vkr::recon

@@ -13,7 +13,7 @@
 #include "engine/geometry/SceneGeometry.h"
 #include "engine/scene/Scene.h"
 
-namespace vkr::app {
+namespace vkr::report {
 
 struct ReportOptions {
   std::filesystem::path output_dir;  // a run's OUT folder (map.json, chain.csv, …)
@@ -47,4 +47,4 @@ void WriteRunReport(const std::filesystem::path& output_dir, const Scene& scene,
 // The library directory a report reads Chart.js and three.js from (see ReportOptions).
 std::filesystem::path JavascriptDir(const ReportOptions& options);
 
-}  // namespace vkr::app
+}  // namespace vkr::report

@@ -1,7 +1,8 @@
 #pragma once
-// What report.html is made of besides its layout (apps/Report.cpp): images as data URIs
+// What report.html is made of besides its layout (report/Report.cpp): images as data URIs
 // within a size budget, the chain as compact JSON for the plots, the JavaScript libraries
-// read from Debian's packages, and the page's own style and script (ReportPage.cpp).
+// read from Debian's packages. The page's own style and scripts are files beside this one
+// (page.css, error_hook.js, page.js, model_view.js), embedded at build time.
 
 #include <filesystem>
 #include <nlohmann/json.hpp>
@@ -9,7 +10,7 @@
 #include <string>
 #include <vector>
 
-namespace vkr::app::report {
+namespace vkr::report {
 
 std::string Base64(const std::string& bytes);
 // Escapes &, <, >, " for HTML text and attribute values.
@@ -31,12 +32,4 @@ nlohmann::json ReadChain(const std::filesystem::path& file, int max_rows = 1000)
 // One JavaScript library file's text, or nothing when it is not installed.
 std::optional<std::string> ReadLibrary(const std::filesystem::path& file);
 
-// The page's CSS and its script (ReportPage.cpp): the script reads the JSON in
-// <script id="report-data"> and draws every chart; the error hook comes first in <head> so
-// a browser check (scripts/report_screenshot.sh) can find errors in #report-errors.
-const char* PageStyle();
-const char* ErrorHook();
-const char* PageScript();
-const char* ModelViewScript();
-
-}  // namespace vkr::app::report
+}  // namespace vkr::report

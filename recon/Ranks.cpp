@@ -1,4 +1,4 @@
-#include "apps/Ranks.h"
+#include "recon/Ranks.h"
 
 #include <cstdlib>
 #include <stdexcept>
@@ -7,7 +7,7 @@
 #include <mpi.h>
 #endif
 
-namespace vkr::app {
+namespace vkr::recon {
 namespace {
 
 #if VKRECON_HAVE_MPI
@@ -134,4 +134,4 @@ void Ranks::Abort(int status) const {
   std::exit(status);
 }
 
-}  // namespace vkr::app
+}  // namespace vkr::recon

@@ -1,4 +1,4 @@
-#include "apps/Report.h"
+#include "report/Report.h"
 
 #include <algorithm>
 #include <cmath>
@@ -9,7 +9,13 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
-#include "apps/ReportAssets.h"
+#include "report/ReportAssets.h"
+// The page's own style and scripts, embedded from report/*.css and *.js at build time
+// (report/CMakeLists.txt).
+#include "embedded/error_hook_js.h"
+#include "embedded/model_view_js.h"
+#include "embedded/page_css.h"
+#include "embedded/page_js.h"
 #include "engine/common/InputError.h"
 #include "pipelines/rendering/WireframeOverlay.h"
 
@@ -20,10 +26,8 @@
 namespace fs = std::filesystem;
 using nlohmann::json;
 
-namespace vkr::app {
+namespace vkr::report {
 namespace {
-
-using report::Html;
 
 // The page stays under 5 MB: the libraries take about 1.2 MB, model.glb at most this much,
 // and the images what is left of their budget (ImageDataUri halves their size until they fit).
@@ -303,7 +307,7 @@ ReportResult WritePage(const ReportOptions& options) {
   h << "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">\n"
        "<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n<title>vkrecon report: "
     << Html(fs::path(settings.value("scene", std::string("run"))).parent_path().filename().string())
-    << "</title>\n<script>" << report::ErrorHook() << "</script>\n<style>" << report::PageStyle() << "</style>\n</head><body>\n"
+    << "</title>\n<script>\n" << kErrorHookJs << "</script>\n<style>\n" << kPageCss << "</style>\n</head><body>\n"
     << "<h1>vkrecon report</h1>\n<p class=\"meta\">scene " << Html(settings.value("scene", std::string("?")))
     << "; device " << Html(settings.value("device", std::string("?"))) << "; built from the files in this folder by "
     << "<code>vkrecon report</code> (docs/REPORT.md).</p>\n<ul id=\"report-errors\"></ul>\n";
@@ -361,8 +365,8 @@ ReportResult WritePage(const ReportOptions& options) {
   std::string data_text = data.dump();
   for (size_t at = 0; (at = data_text.find("</", at)) != std::string::npos;) data_text.replace(at, 2, "<\\/"), at += 3;
   h << "<script type=\"application/json\" id=\"report-data\">" << data_text << "</script>\n";
-  if (chart_js) h << "<script>" << *chart_js << "</script>\n<script>" << report::PageScript() << "</script>\n";
-  if (has_three && model_fits) h << "<script>" << three_js << "</script>\n<script>" << report::ModelViewScript() << "</script>\n";
+  if (chart_js) h << "<script>" << *chart_js << "</script>\n<script>\n" << kPageJs << "</script>\n";
+  if (has_three && model_fits) h << "<script>" << three_js << "</script>\n<script>\n" << kModelViewJs << "</script>\n";
   h << "</body></html>\n";
 
   const std::string html = h.str();
@@ -390,4 +394,4 @@ void WriteRunReport(const fs::path& output_dir, const Scene& scene, const SceneG
   }
 }
 
-}  // namespace vkr::app
+}  // namespace vkr::report

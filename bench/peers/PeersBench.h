@@ -6,8 +6,8 @@
 // records for `run` and for each method: the evaluations, full-resolution equivalents (a
 // level-l evaluation counts 4^-l) and wall time until the running MAP has every parameter
 // within `tolerance` of its prior width of the truth, and the final MAP's errors.
-// Lives in apps/, not bench/harness/: it drives `run` (Reconstruct.h) and the optimiser,
-// which the harness may not include (docs/OVERVIEW.md).
+// A room of its own beside bench/harness/: it drives `run` and `fit` (recon/), which the
+// harness, below them, may not include (docs/OVERVIEW.md).
 
 #include <filesystem>
 #include <functional>
@@ -20,7 +20,7 @@
 #include "engine/vk/Device.h"
 #include "optimiser/MapSearch.h"
 
-namespace vkr::app {
+namespace vkr {
 
 struct PeersOptions {
   std::filesystem::path assets_dir;
@@ -92,4 +92,4 @@ nlohmann::json PeersJson(const PeersReport& report);
 // took them, median final error. Markdown.
 std::string PeersTable(const PeersReport& report);
 
-}  // namespace vkr::app
+}  // namespace vkr

@@ -1,11 +1,11 @@
-#include "apps/DistributedTarget.h"
+#include "recon/DistributedTarget.h"
 
 #include <algorithm>
 #include <chrono>
 #include <iostream>
 #include <limits>
 
-namespace vkr::app {
+namespace vkr::recon {
 namespace {
 
 double Since(std::chrono::steady_clock::time_point start) {
@@ -109,4 +109,4 @@ nlohmann::json ExchangeCost(const ExchangeTimes& times, const Ranks& ranks, int 
           {"share", evaluate > 0 ? (exchange + control) / evaluate : 0.0}};
 }
 
-}  // namespace vkr::app
+}  // namespace vkr::recon

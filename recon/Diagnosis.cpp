@@ -1,4 +1,4 @@
-#include "apps/Diagnosis.h"
+#include "recon/Diagnosis.h"
 
 #include <cmath>
 #include <cstdio>
@@ -6,7 +6,7 @@
 
 #include "pipelines/likelihood/NoiseCalibration.h"
 
-namespace vkr::app {
+namespace vkr::recon {
 namespace {
 
 // A model textured with the composite that differs from the photographs by this RMS
@@ -200,4 +200,4 @@ Diagnosis Diagnose(const Scene& scene, const Evaluation& at_map, double sigma_25
   return d;
 }
 
-}  // namespace vkr::app
+}  // namespace vkr::recon

@@ -1,4 +1,4 @@
-#include "apps/FinerAtlasPolish.h"
+#include "recon/FinerAtlasPolish.h"
 
 #include <algorithm>
 #include <chrono>
@@ -7,11 +7,11 @@
 #include <iostream>
 #include <limits>
 
-#include "apps/SceneTarget.h"
+#include "recon/SearchSetup.h"
 #include "optimiser/Polish.h"
 #include "pipelines/likelihood/NoiseCalibration.h"
 
-namespace vkr::app {
+namespace vkr::recon {
 namespace {
 
 // The doubled atlas's likelihood as the search sees it. Its log-likelihood is divided by the
@@ -163,4 +163,4 @@ std::string FinerAtlasNote(const FinerAtlasPolish& polish, const opt::SamplerSum
   return buf;
 }
 
-}  // namespace vkr::app
+}  // namespace vkr::recon

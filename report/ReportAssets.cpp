@@ -1,4 +1,4 @@
-#include "apps/ReportAssets.h"
+#include "report/ReportAssets.h"
 
 #include <stb/stb_image_write.h>
 
@@ -13,7 +13,7 @@
 
 namespace fs = std::filesystem;
 
-namespace vkr::app::report {
+namespace vkr::report {
 namespace {
 
 void Append(void* context, void* data, int size) {
@@ -165,4 +165,4 @@ std::optional<std::string> ReadLibrary(const fs::path& file) {
   return s;
 }
 
-}  // namespace vkr::app::report
+}  // namespace vkr::report

@@ -1,7 +1,7 @@
 // The peers benchmark (PeersBench.h): `run` and NLopt's methods on the same synthesised
 // photographs, each watched through hooks (Reconstruct's RunObserver, FitMap's callback).
 
-#include "apps/PeersBench.h"
+#include "bench/peers/PeersBench.h"
 
 #include <unistd.h>
 
@@ -15,16 +15,17 @@
 #include <map>
 #include <sstream>
 
-#include "apps/Fit.h"
-#include "apps/Reconstruct.h"
-#include "apps/SceneTarget.h"
 #include "engine/common/InputError.h"
 #include "pipelines/rendering/ViewRendering.h"
+#include "recon/AtomicWrite.h"
+#include "recon/Fit.h"
+#include "recon/Reconstruct.h"
+#include "recon/SearchSetup.h"
 
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
 
-namespace vkr::app {
+namespace vkr {
 namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
@@ -258,15 +259,15 @@ PeersReport RunPeers(const PeersOptions& options, vk::Device& device, const Peer
                                          {"likelihood.sigma", "auto"},
                                          {"sampler.seed", std::to_string(seed)}};
       sets.insert(sets.end(), options.overrides.begin(), options.overrides.end());
-      const Scene scene = LoadSearchScene(asset.scene, sets);
+      const Scene scene = recon::LoadSearchScene(asset.scene, sets);
       Truth truth;
       truth.values = scene.ValuesFromFile(asset.truth_file);
-      for (const opt::ParameterSpec& p : ParameterSpecs(scene)) truth.widths.push_back(p.Width());
+      for (const opt::ParameterSpec& p : recon::ParameterSpecs(scene)) truth.widths.push_back(p.Width());
 
       {  // vkrecon run, its running MAP watched frame by frame
         PeersRow row{asset.name, "run", seed};
         Watch watch(truth, options.tolerance, &row);
-        ReconstructOptions run;
+        recon::ReconstructOptions run;
         run.scene_file = asset.scene;
         run.overrides = sets;
         run.output_dir = folder / "run";
@@ -274,14 +275,14 @@ PeersReport RunPeers(const PeersOptions& options, vk::Device& device, const Peer
         run.one_process = true;
         run.observer.evaluated = [&](int level, size_t n) { watch.Spent(level, n); };
         run.observer.best = [&](const std::vector<double>& psi) { watch.Best(psi); };
-        const ReconstructResult result = Reconstruct(run, device);
+        const recon::ReconstructResult result = recon::Reconstruct(run, device);
         watch.Final(result.map);
         report.rows.push_back(row);
       }
       for (const opt::SearchMethod method : options.methods) {
         PeersRow row{asset.name, opt::ToString(method), seed};
         Watch watch(truth, options.tolerance, &row);
-        FitOptions fit;
+        recon::FitOptions fit;
         fit.scene_file = asset.scene;
         fit.overrides = sets;
         fit.method = method;
@@ -299,14 +300,14 @@ PeersReport RunPeers(const PeersOptions& options, vk::Device& device, const Peer
           best = e.log_posterior;
           watch.Best(*e.psi);
         };
-        const FitResult result = FitMap(fit, device);
+        const recon::FitResult result = recon::FitMap(fit, device);
         watch.Final(result.summary.map);
         report.rows.push_back(row);
       }
       // The rows so far, kept beside the work: an interrupted 45-minute run still leaves them.
       if (!temporary) {
         report.wall_s = kept.wall_s + std::chrono::duration<double>(Clock::now() - start).count();
-        WriteAtomically(work / "peers.json", PeersJson(report).dump(2) + "\n");
+        recon::WriteAtomically(work / "peers.json", PeersJson(report).dump(2) + "\n");
       }
       if (progress)
         progress(GroupLine(asset.name, seed, report.rows.end() - std::ptrdiff_t(1 + options.methods.size()),
@@ -368,4 +369,4 @@ std::string PeersTable(const PeersReport& report) {
   return out.str();
 }
 
-}  // namespace vkr::app
+}  // namespace vkr

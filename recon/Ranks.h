@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-namespace vkr::app {
+namespace vkr::recon {
 
 class Ranks {
  public:
@@ -52,4 +52,4 @@ class Ranks {
   bool joined_ = false;  // MPI_Init was called here
 };
 
-}  // namespace vkr::app
+}  // namespace vkr::recon

@@ -1,4 +1,4 @@
-#include "apps/SceneList.h"
+#include "recon/SceneList.h"
 
 #include <algorithm>
 #include <fstream>
@@ -6,7 +6,7 @@
 
 #include "engine/common/InputError.h"
 
-namespace vkr::app {
+namespace vkr::recon {
 
 namespace fs = std::filesystem;
 
@@ -52,4 +52,4 @@ std::vector<ListedScene> ReadSceneList(const fs::path& path) {
   return scenes;
 }
 
-}  // namespace vkr::app
+}  // namespace vkr::recon

@@ -1,17 +1,14 @@
-#include "apps/SceneTarget.h"
+#include "recon/LikelihoodTarget.h"
 
 #include <algorithm>
+#include <cstdint>
 #include <cstdio>
-#include <fstream>
-#include <stdexcept>
 
-#include "engine/common/InputError.h"
-#include "engine/geometry/AtlasFootprint.h"
-#include "pipelines/likelihood/LikelihoodTool.h"
+#include "recon/AtomicWrite.h"
 
 namespace fs = std::filesystem;
 
-namespace vkr::app {
+namespace vkr::recon {
 namespace {
 
 std::string MaskFileName(const std::string& camera, const Image& mask) {
@@ -24,22 +21,6 @@ std::string MaskFileName(const std::string& camera, const Image& mask) {
 }
 
 }  // namespace
-
-void WriteAtomically(const fs::path& file, const std::string& text) {
-  const fs::path tmp = file.string() + ".tmp";
-  {
-    std::ofstream out(tmp, std::ios::binary);
-    out << text;
-    if (!out) throw std::runtime_error("cannot write " + tmp.string());
-  }
-  fs::rename(tmp, file);
-}
-
-void WritePngAtomically(const fs::path& file, const Image& image) {
-  const fs::path tmp = file.parent_path() / (file.stem().string() + ".tmp.png");
-  WritePng(tmp, image);
-  fs::rename(tmp, file);
-}
 
 LikelihoodTarget::LikelihoodTarget(Likelihood& likelihood, const Scene& scene, bool estimate_sigma,
                                    bool mask_clutter, fs::path output_dir, bool writes_files,
@@ -168,48 +149,4 @@ std::vector<double> LikelihoodTarget::ScoreModes(const std::vector<std::vector<d
   return scores;
 }
 
-Scene LoadSearchScene(const fs::path& file, const std::vector<SceneOverride>& overrides) {
-  Scene scene = LoadScene(file, overrides);
-  ResolveAutoLikelihood(scene);  // atlas and levels "auto": map.json reports what was used
-  if (scene.parameters.empty())
-    throw InputError(scene.file.string(), "parameters", "nothing to reconstruct: the scene declares no parameter");
-  return scene;
-}
-
-std::unique_ptr<Likelihood> MakeSearchLikelihood(vk::Device& device, const Scene& scene, int max_batch) {
-  LikelihoodSetup setup;
-  setup.max_batch = max_batch;
-  std::unique_ptr<Likelihood> likelihood = MakeLikelihood(device, scene, setup);
-  // The photographs' exposures differ: a first colour correction at the initial parameters,
-  // on the coarsest level, where misregistration matters least (`run` refits it at the mode).
-  // Done again, identically, when a run resumes before its first calibration.
-  likelihood->SetLevel(likelihood->levels() - 1);
-  likelihood->CalibratePhotometric(scene.InitialValues());
-  likelihood->SetLevel(0);
-  return likelihood;
-}
-
-void PreflightVisibility(const Scene& scene, Likelihood& likelihood) {
-  const Evaluation e = likelihood.Evaluate({scene.InitialValues()})[0];
-  if (e.scalars.seen_multi == 0)
-    throw InputError(scene.file.string(), "cameras",
-                     "at the initial parameters no surface point is seen by two cameras: the cameras "
-                     "see nothing of the scene (check poses, priors and images)");
-}
-
-std::vector<opt::ParameterSpec> ParameterSpecs(const Scene& scene) {
-  std::vector<opt::ParameterSpec> specs;
-  for (const Parameter& p : scene.parameters) {
-    opt::ParameterSpec s;
-    s.name = p.name;
-    s.prior = p.prior.kind == Prior::Kind::Uniform ? opt::PriorKind::Uniform : opt::PriorKind::Normal;
-    s.a = p.prior.a;
-    s.b = p.prior.b;
-    s.bounds = p.bounds;
-    s.init = p.init;
-    specs.push_back(s);
-  }
-  return specs;
-}
-
-}  // namespace vkr::app
+}  // namespace vkr::recon

@@ -30,7 +30,7 @@
 #include "engine/vk/Device.h"
 #include "optimiser/Sampler.h"
 
-namespace vkr::app {
+namespace vkr::recon {
 
 // How far (posterior sds, any parameter) the MAP may move before the diagnosis says the
 // intervals do not describe it. On the bundled assets the move was at most 1.19 sds (house
@@ -80,4 +80,4 @@ nlohmann::json ToJson(const FinerAtlasPolish& polish, const opt::SamplerSummary&
 // The diagnosis's sentence when the MAP moved beyond kFinerAtlasShiftSd ("" otherwise).
 std::string FinerAtlasNote(const FinerAtlasPolish& polish, const opt::SamplerSummary& summary);
 
-}  // namespace vkr::app
+}  // namespace vkr::recon

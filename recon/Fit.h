@@ -13,7 +13,7 @@
 #include "engine/vk/Device.h"
 #include "optimiser/MapSearch.h"
 
-namespace vkr::app {
+namespace vkr::recon {
 
 struct FitOptions {
   std::filesystem::path scene_file;
@@ -53,4 +53,4 @@ void CheckFitOptions(const FitOptions& options);
 // scene, a budget ≤ 0) and std::runtime_error when no hypothesis scored.
 FitResult FitMap(const FitOptions& options, vk::Device& device);
 
-}  // namespace vkr::app
+}  // namespace vkr::recon

@@ -1,11 +1,13 @@
-#include "apps/Reconstruct.h"
+#include "recon/Reconstruct.h"
 
-#include "apps/Diagnosis.h"
-#include "apps/DistributedTarget.h"
-#include "apps/FinerAtlasPolish.h"
-#include "apps/Ranks.h"
-#include "apps/Report.h"
-#include "apps/SceneTarget.h"
+#include "recon/AtomicWrite.h"
+#include "recon/Diagnosis.h"
+#include "recon/DistributedTarget.h"
+#include "recon/FinerAtlasPolish.h"
+#include "recon/LikelihoodTarget.h"
+#include "recon/Ranks.h"
+#include "recon/SearchSetup.h"
+#include "report/Report.h"
 
 #include <unistd.h>
 
@@ -34,7 +36,7 @@
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
 
-namespace vkr::app {
+namespace vkr::recon {
 namespace {
 
 std::atomic<bool> g_stop{false};
@@ -493,9 +495,9 @@ ReconstructResult Reconstruct(const ReconstructOptions& options, vk::Device& dev
   // outputs shows none, and its checkpoint writes them all again on --resume.
   result.map_json = options.output_dir / "map.json";
   WriteAtomically(result.map_json, map.dump(2) + "\n");
-  WriteRunReport(options.output_dir, scene, geometry, summary.map);  // overlays/, report.html (docs/REPORT.md)
+  report::WriteRunReport(options.output_dir, scene, geometry, summary.map);  // overlays/, report.html (docs/REPORT.md)
   if (!quiet) std::cerr << summary.BriefReport() << "\n";
   return result;
 }
 
-}  // namespace vkr::app
+}  // namespace vkr::recon

@@ -10,14 +10,14 @@
 
 #include <nlohmann/json.hpp>
 
-#include "apps/FinerAtlasPolish.h"
+#include "recon/FinerAtlasPolish.h"
 #include "engine/scene/Scene.h"
 #include "optimiser/Sampler.h"
 #include "pipelines/model/Evaluation.h"
 #include "pipelines/rendering/ModelExport.h"
 #include "pipelines/likelihood/Residuals.h"
 
-namespace vkr::app {
+namespace vkr::recon {
 
 struct Diagnosis {
   enum class Verdict {
@@ -42,4 +42,4 @@ Diagnosis Diagnose(const Scene& scene, const Evaluation& at_map, double sigma_25
                    const std::vector<NodeResidual>& nodes, const std::vector<Reprojection>& reprojections,
                    const std::vector<double>& clutter_share, const FinerAtlasPolish* finer = nullptr);
 
-}  // namespace vkr::app
+}  // namespace vkr::recon
