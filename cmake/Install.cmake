@@ -15,7 +15,7 @@ set(VKRECON_CMAKE_DIR ${CMAKE_INSTALL_LIBDIR}/cmake/vkrecon)
 install(TARGETS ${vkr_modules} vkr_all EXPORT vkreconTargets
         ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}/vkrecon COMPONENT dev)
 install(TARGETS vkrecon RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR} COMPONENT bin)
-foreach(room engine pipelines optimiser recon report bench/harness)
+foreach(room engine pipelines optimiser recon report bench/harness bench/peers)
   if(IS_DIRECTORY ${PROJECT_SOURCE_DIR}/${room})
     install(DIRECTORY ${room}/ DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/vkrecon/${room} COMPONENT dev
             FILES_MATCHING PATTERN "*.h")

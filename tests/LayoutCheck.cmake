@@ -20,9 +20,12 @@ set(allowed_recon ${engine} optimiser pipelines/model pipelines/passes pipelines
     pipelines/likelihood report)
 set(allowed_bench/peers ${engine} optimiser pipelines/model pipelines/passes pipelines/rendering
     pipelines/likelihood report recon)
+# The Python module (python/): a front door beside the command line, over the same rooms.
+set(allowed_python ${engine} optimiser pipelines/model pipelines/passes pipelines/rendering
+    pipelines/likelihood report recon)
 set(rooms engine/common engine/image engine/scene engine/geometry engine/vk optimiser
     pipelines/model pipelines/passes pipelines/rendering pipelines/likelihood bench/harness
-    report recon bench/peers apps)
+    report recon bench/peers python apps)
 # The command line parses options and calls any room; none includes it.
 set(allowed_apps ${rooms})
 
