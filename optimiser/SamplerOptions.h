@@ -141,7 +141,7 @@ struct SamplerOptions {
   // adopted on house_annex (an annex the scene leaves out) on noise seeds 1–3, nor on Merton;
   // in the noise study it was adopted once (stairs at σ 0: median error 0.08 → 0.07 % of the
   // prior width) and every other run's chains, MAP and intervals stayed the same to the digit
-  // (docs/NOISE_STUDY.md). (Under the earlier comparison, at the chains' calibration, it was
+  // (docs/internals/NOISE_STUDY.md). (Under the earlier comparison, at the chains' calibration, it was
   // adopted on house_annex and the MAP's median error went from 1.59 % to 2.86 %: where the
   // model is wrong, a higher posterior is not a better answer, so the comparison must be
   // fair.) It costs 100 equivalents, a few per cent of a run, and rescues chains that settled

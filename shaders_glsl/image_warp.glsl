@@ -9,11 +9,11 @@
 // point; pixels where t sees no surface keep the clear value (all 0).
 //
 // One draw compares t with all its sources, so t's surface is rasterised and tested against
-// t's depth map once, not once per pair (docs/IMAGE_SPACE.md "Cost"). No blending: a surface
+// t's depth map once, not once per pair (docs/internals/IMAGE_SPACE.md "Cost"). No blending: a surface
 // coincident with the visible one passes the depth-equal test too and may overwrite the
 // pixel, which a sum over draws would count twice.
 //
-// Noise model (pipelines/model/Evaluation.h, docs/IMAGE_SPACE.md): r_t at the pixel carries noise
+// Noise model (pipelines/model/Evaluation.h, docs/internals/IMAGE_SPACE.md): r_t at the pixel carries noise
 // σ², the sample of r_s ν_s σ² (ν_s < 1 because bilinear interpolation and prefiltering
 // average pixels), and each image δ²|∇I|² more for a projection uncertain by δ pixels. So
 // the difference of the two has variance σ² (1 + ν_s + b_t² + b_s²) per channel with

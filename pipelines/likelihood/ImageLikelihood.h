@@ -17,7 +17,7 @@
 // χ²_p = ‖r_t(p) − s_{s,t}(p)‖² / (σ² v_p), v_p = 1 + ν_s + b_t² + b_s²: a difference of two
 // noisy samples has variance 2σ² per channel when both are raw pixels (ν_s = 1, b = 0); the
 // sample of r_s is interpolated and prefiltered (ν_s < 1) and each image adds δ²|∇I|² for a
-// projection uncertain by δ pixels (b = δ|∇I|/σ). docs/IMAGE_SPACE.md has the details and
+// projection uncertain by δ pixels (b = δ|∇I|/σ). docs/internals/IMAGE_SPACE.md has the details and
 // the thesis's bias experiment.
 //
 // Everything is allocated when the likelihood is created (the per-pair images of a dump on

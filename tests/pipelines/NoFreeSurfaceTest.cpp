@@ -1,4 +1,4 @@
-// "No free surface" (docs/LIKELIHOOD.md): surface whose photographs disagree — here a sign
+// "No free surface" (docs/internals/LIKELIHOOD.md): surface whose photographs disagree — here a sign
 // that shows each camera another picture, as a screen or a glossy sign would — must not
 // gain by moving where only one camera sees it, which takes it out of the comparison.
 // Without the occlusion prior's charge for surface one view alone sees, the sign slid out
