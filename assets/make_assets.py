@@ -248,7 +248,7 @@ def main():
         ring(9, 3.0, 1.8, [0.0, 0.0, 0.3], jitter=0.15, seed=2),
         dict(ground_tex, **{"box.png": lambda p: texture(p, 2, (0.7, 0.35, 0.25))}))
 
-    # house: box walls + prism roof, 7 cameras (the DESIGN.md example scene).
+    # house: box walls + prism roof, 7 cameras (the example scene of docs/guide/SCENE_FORMAT.md, "Worked example: the house").
     write_asset("house", {
         "parameters": {"x": uniform(-0.5, 0.5), "y": uniform(-0.5, 0.5), "yaw": uniform(-45, 45),
                        "w": uniform(0.3, 1.5), "d": uniform(0.3, 1.5), "h": uniform(0.2, 1.0),

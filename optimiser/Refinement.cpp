@@ -1,4 +1,4 @@
-// Gradient refinement (DESIGN.md, "The optimiser"): quasi-Newton ascent on the untempered
+// Gradient refinement (docs/internals/SAMPLER.md, stages 3 and 5): quasi-Newton ascent on the untempered
 // log posterior at level 0 with central finite differences, mid-run to find the mode
 // (settling) and at the end to polish the MAP. Each frame scores
 // one candidate and its 2d neighbours ψ ± h_i e_i in one batch; a candidate that improves

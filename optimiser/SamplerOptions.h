@@ -1,5 +1,5 @@
 #pragma once
-// How the sampler runs (DESIGN.md, "The optimiser"): Metropolis–Hastings on
+// How the sampler runs (docs/internals/SAMPLER.md): Metropolis–Hastings on
 //   log p(Ψ) + log L(Ψ) / T
 // with `chains` independent chains, each a ladder of `temperatures` replicas that exchange
 // states (parallel tempering), annealed from a hot start to T = 1 (§7.2, Fig 7.17), run

@@ -1,5 +1,5 @@
 #pragma once
-// Lens distortion of real cameras, as OpenCV and COLMAP define it (DESIGN.md, "cameras"):
+// Lens distortion of real cameras, as OpenCV and COLMAP define it (docs/guide/SCENE_FORMAT.md, "Lens distortion"):
 // a map of *normalised* image coordinates (x, y) = (X/Z, Y/Z) of a camera-frame point to the
 // distorted normalised coordinates the lens actually images it at; K then maps those to
 // pixels. vkrecon renders pinhole cameras, so a photograph taken through a lens is resampled

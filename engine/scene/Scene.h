@@ -1,6 +1,6 @@
 #pragma once
-// The scene model: what a scene file describes, independent of Vulkan (DESIGN.md,
-// "Scene file"). A Scene is immutable after loading; a hypothesis Ψ is a vector of
+// The scene model: what a scene file describes, independent of Vulkan
+// (docs/guide/SCENE_FORMAT.md). A Scene is immutable after loading; a hypothesis Ψ is a vector of
 // parameter values in the order of Scene::parameters, and the scene turns it into node
 // matrices and cameras.
 
@@ -251,7 +251,7 @@ struct LoadOptions {
 };
 
 // Loads and validates a scene file. Throws InputError (file, JSON path, problem) for every
-// bad input listed in DESIGN.md. Nodes must be listed parents first (a child before its
+// bad input listed in docs/guide/SCENE_FORMAT.md, "Errors". Nodes must be listed parents first (a child before its
 // parent is an error), so node indices are the file's order.
 Scene LoadScene(const std::filesystem::path& file,
                 const std::vector<SceneOverride>& overrides = {},

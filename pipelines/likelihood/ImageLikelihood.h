@@ -1,6 +1,6 @@
 #pragma once
-// The image-space photo-consistency likelihood (DESIGN.md "Image-space likelihood"; thesis
-// §4), assembled from passes: per camera a depth pass (DepthPass, shared with the surface
+// The image-space photo-consistency likelihood (docs/internals/IMAGE_SPACE.md;
+// thesis §4), assembled from passes: per camera a depth pass (DepthPass, shared with the surface
 // likelihood), per target camera t a warp pass that renders the hypothesis from t, textures
 // it with each source r_s through a shadow-map test from s (the synthetic images s_{s,t}) and
 // writes per pixel the sum over sources of the χ² of r_t against them (TargetWarpPass, up to

@@ -1,7 +1,7 @@
 #pragma once
 // What a likelihood reduces one hypothesis to, and how the host turns those few scalars
-// into a log-likelihood (DESIGN.md, "The likelihoods", step 4; thesis §7.4;
-// docs/internals/LIKELIHOOD.md explains every choice).
+// into a log-likelihood (thesis §7.4;
+// docs/internals/LIKELIHOOD.md, "The statistic", explains every choice).
 //
 // The surface likelihood's model, per atlas texel t on the surface and outside every other
 // primitive, seen by views i with colour c_i (photometrically corrected, c = gain·c_raw +

@@ -1,5 +1,5 @@
 #pragma once
-// Image-space warp pass (thesis §4.2–4.3, DESIGN.md "Image-space likelihood"): for a target
+// Image-space warp pass (thesis §4.2–4.3, docs/internals/IMAGE_SPACE.md): for a target
 // camera t and a group of its source cameras s, render the hypothesis from t, and per pixel
 // and source texture it by projecting r_s onto it with a shadow-map visibility test from s
 // (the synthetic image s_{s,t}); write per pixel of t the sum of the pixel pairs' χ² under

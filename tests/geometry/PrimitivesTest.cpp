@@ -1,4 +1,4 @@
-// The unit primitives (DESIGN.md, "Scene file"): extent, faces, orientation, closedness,
+// The unit primitives (docs/guide/SCENE_FORMAT.md, "nodes"): extent, faces, orientation, closedness,
 // areas and volumes, and the upright face_uv convention documented in Primitives.cpp.
 
 #include <gtest/gtest.h>

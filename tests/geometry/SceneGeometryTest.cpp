@@ -1,4 +1,4 @@
-// Flattened scene geometry (DESIGN.md, "Data flows one way") and albedo loading, on
+// Flattened scene geometry (docs/internals/OVERVIEW.md, "How a hypothesis flows") and albedo loading, on
 // scenes built in code.
 
 #include <gtest/gtest.h>

@@ -1,4 +1,5 @@
-// The example scene of DESIGN.md loads as written, and missing sections take the defaults.
+// The house of docs/guide/SCENE_FORMAT.md ("Worked example: the house", without its albedos
+// and with constant settings) loads as written, and missing sections take the defaults.
 
 #include <gtest/gtest.h>
 
