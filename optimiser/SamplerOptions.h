@@ -115,7 +115,7 @@ struct SamplerOptions {
   int refine_steps = 20;
   double refine_difference = 1e-4;  // finite-difference step, fraction of the prior width
   double refine_tolerance = 1e-7;   // stop when no parameter moves by more width than this
-  // Polish after the refinement (issue 15): BOBYQA (MapSearch.h) at level 0 from the MAP,
+  // Polish after the refinement: BOBYQA (MapSearch.h) at level 0 from the MAP,
   // first steps of two posterior sds, at most this many evaluations (0: none); the MAP moves
   // only where it scores higher. The finite-difference steps above stall a few hundredths of
   // a percent of the prior width from the mode on the photographs' rough likelihood, where a
@@ -127,7 +127,7 @@ struct SamplerOptions {
   // FinerAtlasPolish.h; the surface likelihood only). Each costs about four of the run's.
   // Run by the sampler's caller; not by the Sampler itself.
   int finer_atlas_polish = 60;
-  // A local search before the sampler (issue 15): BOBYQA (MapSearch.h) coarse-to-fine over
+  // A local search before the sampler (docs/internals/SAMPLER.md, stage 1): BOBYQA (MapSearch.h) coarse-to-fine over
   // every level from the parameters' initial values, at most this many full-resolution-
   // equivalent evaluations (0: none). In the peers bench (bench/RESULTS.md) it came within
   // 1 % of the prior width of the truth in 6–61 equivalents where the sampler took 144–2,529,

@@ -40,7 +40,7 @@ std::string Mpirun(int ranks) {
 }
 #endif
 
-// The small box run: quarter size, 4 chains of 2 temperatures (batch 8).
+// A small box run: quarter size, 4 chains of 2 temperatures (batch 8).
 std::string BoxRun(const fs::path& dir, int iterations = 40) {
   return kVkrecon + " run -q " + Q(kBox / "scene.json") + " --set cameras=" + Q(dir / "images/cameras.json") +
          " --set images=" + Q(dir / "images") +

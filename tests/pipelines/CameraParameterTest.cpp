@@ -1,4 +1,4 @@
-// Camera parameters estimated with the scene (issue 5, thesis §4.5.3), on the `focal`
+// Camera parameters estimated with the scene (docs/guide/CAMERA_PARAMETERS.md, thesis §4.5.3), on the `focal`
 // asset: the box, photographed with a focal length 4 % longer than the calibration says
 // (f = 1.04), the principal point 6 px right of it (px = 6) and cam4 8 cm higher than its
 // recorded pose (dz = 0.08). The asset's cameras.json holds the nominal calibration with
