@@ -248,7 +248,8 @@ def main():
         ring(9, 3.0, 1.8, [0.0, 0.0, 0.3], jitter=0.15, seed=2),
         dict(ground_tex, **{"box.png": lambda p: texture(p, 2, (0.7, 0.35, 0.25))}))
 
-    # house: box walls + prism roof, 7 cameras (the example scene of docs/guide/SCENE_FORMAT.md, "Worked example: the house").
+    # house: box walls + prism roof, 7 cameras (the example scene of docs/guide/SCENE_FORMAT.md,
+    # "Worked example: the house").
     write_asset("house", {
         "parameters": {"x": uniform(-0.5, 0.5), "y": uniform(-0.5, 0.5), "yaw": uniform(-45, 45),
                        "w": uniform(0.3, 1.5), "d": uniform(0.3, 1.5), "h": uniform(0.2, 1.0),
@@ -326,7 +327,8 @@ def clutter_assets(ground_tex):
     # with a lower annex against its +x end, a chimney, window frames standing 2 cm proud of the
     # long walls, a door on the -x gable, and eaves overhanging the walls by 3 cm (a 30 cm
     # overhang on a house ten times this size). The overhang is model error that moves the
-    # truth itself: the walls say w, the roof w + 6 cm (docs/guide/REAL_PHOTOS.md measures how much).
+    # truth itself: the walls say w, the roof w + 6 cm (docs/guide/REAL_PHOTOS.md measures how
+    # much).
     house_params = {"x": uniform(-0.5, 0.5), "y": uniform(-0.5, 0.5), "yaw": uniform(-45, 45),
                     "w": uniform(0.3, 1.5), "d": uniform(0.3, 1.5), "h": uniform(0.2, 1.0),
                     "rh": uniform(0.05, 0.6)}

@@ -1,6 +1,6 @@
-# The rooms of the source include one way (docs/internals/OVERVIEW.md): every folder below may include
-# only itself and the folders listed for it. Run as a test (`layout/IncludesPointOneWay`), so
-# the map in the docs is a fact the build keeps, not a hope. Usage: cmake -DROOT=… -P this.
+# The rooms of the source include one way (docs/internals/OVERVIEW.md): every folder below may
+# include only itself and the folders listed for it. Run as a test (`layout/IncludesPointOneWay`),
+# so the map in the docs is a fact the build keeps, not a hope. Usage: cmake -DROOT=… -P this.
 set(engine engine/common engine/image engine/scene engine/geometry engine/vk)
 set(allowed_engine/common "")
 set(allowed_engine/image engine/common)

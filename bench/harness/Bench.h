@@ -134,8 +134,8 @@ using BenchProgress = std::function<void(const std::string& line)>;
 // with `skipped` set; any other failure throws.
 BenchReport RunBenchmarks(const BenchOptions& options, vk::Device& device, const BenchProgress& progress = {});
 
-// The `--json` contract (docs/reference/CLI.md, `vkrecon bench`): {"device", "rows": [{"name", "batch",
-// "hypotheses_per_s", "passes_ms", …}], …} plus ceilings, soak, memory and bars.
+// The `--json` contract (docs/reference/CLI.md, `vkrecon bench`): {"device", "rows": [{"name",
+// "batch", "hypotheses_per_s", "passes_ms", …}], …} plus ceilings, soak, memory and bars.
 std::string BenchJson(const BenchReport& report);
 // An aligned table of the rows, then ceilings, memory, soak and bars.
 std::string FormatBenchTable(const BenchReport& report);

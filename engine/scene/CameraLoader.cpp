@@ -1,7 +1,7 @@
 // The scene's `cameras`: a camera file, an inline list, or a COLMAP text model
-// (docs/guide/SCENE_FORMAT.md, "cameras"). Camera files are written by other tools, so their unknown keys are ignored —
-// except `distortion`, which changes the geometry and is read or refused, never dropped;
-// inline cameras are part of the scene file, where unknown keys are errors.
+// (docs/guide/SCENE_FORMAT.md, "cameras"). Camera files are written by other tools, so their
+// unknown keys are ignored — except `distortion`, which changes the geometry and is read or
+// refused, never dropped; inline cameras are part of the scene file, where unknown keys are errors.
 
 #include <Eigen/LU>
 #include <algorithm>

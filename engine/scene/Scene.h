@@ -149,8 +149,8 @@ struct LikelihoodSettings {
   // NoiseCalibration.h): 8, 16, 32 or 64; 0 ("auto", the default) takes the largest κ over
   // those sizes.
   int sandwich_blocks = 0;
-  // The image-space likelihood only (docs/internals/IMAGE_SPACE.md): 0 compares every ordered camera
-  // pair; k > 0 each target camera with its k best sources, ranked by `partner_ranking`
+  // The image-space likelihood only (docs/internals/IMAGE_SPACE.md): 0 compares every ordered
+  // camera pair; k > 0 each target camera with its k best sources, ranked by `partner_ranking`
   // ("distance": nearest centres, "direction": most similar optical axes).
   int partners = 0;
   std::string partner_ranking = "distance";
@@ -251,8 +251,8 @@ struct LoadOptions {
 };
 
 // Loads and validates a scene file. Throws InputError (file, JSON path, problem) for every
-// bad input listed in docs/guide/SCENE_FORMAT.md, "Errors". Nodes must be listed parents first (a child before its
-// parent is an error), so node indices are the file's order.
+// bad input listed in docs/guide/SCENE_FORMAT.md, "Errors". Nodes must be listed parents first (a
+// child before its parent is an error), so node indices are the file's order.
 Scene LoadScene(const std::filesystem::path& file,
                 const std::vector<SceneOverride>& overrides = {},
                 const LoadOptions& options = {});

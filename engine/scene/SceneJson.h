@@ -77,7 +77,8 @@ struct Reader {
 };
 
 // Reads the `cameras` value of the scene file (file name, inline list, or COLMAP model;
-// docs/guide/SCENE_FORMAT.md, "cameras") into scene.cameras. Camera images resolve against scene.images_dir.
+// docs/guide/SCENE_FORMAT.md, "cameras") into scene.cameras. Camera images resolve against
+// scene.images_dir.
 void ReadCameras(const Json& value, const Reader& scene_reader, bool require_images,
                  Scene& scene);
 

@@ -266,7 +266,8 @@ void ReadNodes(const Reader& r, const Json& j, std::vector<Node>& nodes) {
 }
 
 // Checks that need the whole scene: every parameter is used (docs/guide/SCENE_FORMAT.md,
-// "parameters": one declared but used nowhere is an error), and every expression is finite at the initial values.
+// "parameters": one declared but used nowhere is an error), and every expression is finite at the
+// initial values.
 void CheckScene(const Scene& scene, const std::string& display) {
   const ExpressionTable& table = scene.expressions();
   for (size_t p = 0; p < scene.parameters.size(); ++p)

@@ -1,7 +1,7 @@
 #pragma once
 // The noise model's nuisance parameters, estimated at the mode a run settles on
-// (docs/internals/LIKELIHOOD.md, "Honest intervals"). Three things make the textbook likelihood wrong or
-// overconfident on photographs:
+// (docs/internals/LIKELIHOOD.md, "Honest intervals"). Three things make the textbook likelihood
+// wrong or overconfident on photographs:
 //   - the photographs' exposure and white balance differ: the per-camera colour correction
 //     (Photometric.h) is refitted at the mode;
 //   - σ and δ: the configured noise may not be the images' (`"sigma": "auto"` estimates

@@ -62,8 +62,8 @@ struct LikelihoodModel {
   // Factor on `unverified`: a texel only one photograph sees cannot be checked, so it is
   // charged what its view would cost as an outlier, −½·w·K: no surface gains by moving
   // where only one camera looks, since no compared texel costs more than an average view's
-  // saturation beyond its expectation (docs/internals/LIKELIHOOD.md, "No free surface"). 0 turns the
-  // charge off.
+  // saturation beyond its expectation (docs/internals/LIKELIHOOD.md, "No free surface"). 0 turns
+  // the charge off.
   double unverified_penalty = 1.0;
 };
 

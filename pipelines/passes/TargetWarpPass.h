@@ -6,11 +6,11 @@
 // the noise model of shaders_glsl/image_warp.glsl and how many sources compared.
 //
 // One draw serves a whole group, so t's surface is rasterised and depth-tested once per
-// group rather than once per pair (docs/internals/IMAGE_SPACE.md "Cost"). Only the surface t actually
-// sees is shaded: t's depth map (DepthPass) is the pass's read-only depth attachment, with a
-// depth-equal test. Output per pixel (RGBA32F): r = Σ χ² over the sources that see the
-// surface point too, g = their count, b = the count of sources that do not, a = 1; all 0
-// where t sees no surface (background, or the back of a face).
+// group rather than once per pair (docs/internals/IMAGE_SPACE.md "Cost"). Only the surface t
+// actually sees is shaded: t's depth map (DepthPass) is the pass's read-only depth attachment, with
+// a depth-equal test. Output per pixel (RGBA32F): r = Σ χ² over the sources that see the surface
+// point too, g = their count, b = the count of sources that do not, a = 1; all 0 where t sees no
+// surface (background, or the back of a face).
 
 #include <Eigen/Core>
 #include <map>
