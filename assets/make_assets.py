@@ -22,7 +22,7 @@ import zlib
 HERE = os.path.dirname(os.path.abspath(__file__))
 
 # Every asset's settings. σ is estimated at the mode ("auto"): a given σ that does not match
-# the images unbalances the χ² correction (docs/LIKELIHOOD.md). 600 iterations keep the
+# the images unbalances the χ² correction (docs/internals/LIKELIHOOD.md). 600 iterations keep the
 # default run of every asset within 5 minutes on a 2-core machine without a GPU.
 LIKELIHOOD = {"kind": "surface", "sigma": "auto", "weights": "angle", "atlas": 256, "levels": 3}
 SAMPLER = {"iterations": 600, "chains": 4, "batch": 16, "seed": 1}
@@ -248,7 +248,8 @@ def main():
         ring(9, 3.0, 1.8, [0.0, 0.0, 0.3], jitter=0.15, seed=2),
         dict(ground_tex, **{"box.png": lambda p: texture(p, 2, (0.7, 0.35, 0.25))}))
 
-    # house: box walls + prism roof, 7 cameras (the DESIGN.md example scene).
+    # house: box walls + prism roof, 7 cameras (the example scene of docs/guide/SCENE_FORMAT.md,
+    # "Worked example: the house").
     write_asset("house", {
         "parameters": {"x": uniform(-0.5, 0.5), "y": uniform(-0.5, 0.5), "yaw": uniform(-45, 45),
                        "w": uniform(0.3, 1.5), "d": uniform(0.3, 1.5), "h": uniform(0.2, 1.0),
@@ -326,7 +327,8 @@ def clutter_assets(ground_tex):
     # with a lower annex against its +x end, a chimney, window frames standing 2 cm proud of the
     # long walls, a door on the -x gable, and eaves overhanging the walls by 3 cm (a 30 cm
     # overhang on a house ten times this size). The overhang is model error that moves the
-    # truth itself: the walls say w, the roof w + 6 cm (docs/REAL_PHOTOS.md measures how much).
+    # truth itself: the walls say w, the roof w + 6 cm (docs/guide/REAL_PHOTOS.md measures how
+    # much).
     house_params = {"x": uniform(-0.5, 0.5), "y": uniform(-0.5, 0.5), "yaw": uniform(-45, 45),
                     "w": uniform(0.3, 1.5), "d": uniform(0.3, 1.5), "h": uniform(0.2, 1.0),
                     "rh": uniform(0.05, 0.6)}
@@ -360,7 +362,7 @@ def clutter_assets(ground_tex):
                            "transforms": [{"translate": [along, "%g*(d/2 + 0.01)" % sign, 0.24]},
                                           {"scale": [0.17, 0.02, 0.2]}]})
     # What a user does who sees the roof overhang the walls: one more parameter, the overhang e,
-    # with the roof scaled to (w + 2e) × (d + 2e) (docs/REAL_PHOTOS.md, "The synthetic clutter
+    # with the roof scaled to (w + 2e) × (d + 2e) (docs/guide/REAL_PHOTOS.md, "The synthetic clutter
     # assets": without it the MAP follows the roof's planes, not the walls).
     eaves_roof = dict(roof, transforms=[{"translate": [0, 0, 1]},
                                         {"scale": ["1 + 2*e/w", "1 + 2*e/d", "rh/h"]}])

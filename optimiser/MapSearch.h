@@ -1,6 +1,6 @@
 #pragma once
 // A search for the maximum a posteriori hypothesis with NLopt's derivative-free methods
-// (issue 15, "Peer comparison"): maximises log prior + log likelihood of a Target over the
+// (bench/RESULTS.md, "Peers"): maximises log prior + log likelihood of a Target over the
 // box of the priors' supports, optionally coarse-to-fine over its levels (§7.3). No
 // intervals: where the sampler answers "how sure", this answers only "where is the mode",
 // for `vkrecon fit`, for the peers benchmark, and to polish the sampler's MAP (`run`).

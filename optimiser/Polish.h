@@ -1,5 +1,5 @@
 #pragma once
-// Polishing the sampler's MAP with BOBYQA (issue 15, "Peer comparison"): the sampler's best
+// Polishing the sampler's MAP with BOBYQA (bench/RESULTS.md, "Peers"): the sampler's best
 // hypothesis plus its finite-difference refinement ends a few hundredths of a percent of the
 // prior width from the mode, where a quadratic-model search from it converges in a few dozen
 // evaluations. Used by `vkrecon run` after opt::Run (SamplerOptions::polish_evaluations).

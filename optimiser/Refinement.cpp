@@ -1,10 +1,10 @@
-// Gradient refinement (DESIGN.md, "The optimiser"): quasi-Newton ascent on the untempered
-// log posterior at level 0 with central finite differences, mid-run to find the mode
-// (settling) and at the end to polish the MAP. Each frame scores
-// one candidate and its 2d neighbours ψ ± h_i e_i in one batch; a candidate that improves
-// on the current point is accepted (and its gradient is already known), one that does not
-// shortens the step. The first inverse Hessian is the posterior covariance of the sample
-// (exact for a Gaussian posterior), then BFGS updates refine it.
+// Gradient refinement (docs/internals/SAMPLER.md, stages 3 and 5): quasi-Newton ascent on the
+// untempered log posterior at level 0 with central finite differences, mid-run to find the mode
+// (settling) and at the end to polish the MAP. Each frame scores one candidate and its 2d
+// neighbours ψ ± h_i e_i in one batch; a candidate that improves on the current point is accepted
+// (and its gradient is already known), one that does not shortens the step. The first inverse
+// Hessian is the posterior covariance of the sample (exact for a Gaussian posterior), then BFGS
+// updates refine it.
 
 #include <algorithm>
 #include <cmath>

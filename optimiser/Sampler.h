@@ -1,5 +1,5 @@
 #pragma once
-// The sampler (DESIGN.md, "The optimiser"; options and schedule in SamplerOptions.h).
+// The sampler (docs/internals/SAMPLER.md; options and schedule in SamplerOptions.h).
 //
 //   opt::SamplerSummary summary;
 //   opt::Run(options, parameters, target, &summary, callbacks);   // or Resume(checkpoint, …)
@@ -167,7 +167,7 @@ struct SamplerSummary {
   std::string FullReport() const;   // a table per parameter and per chain
 };
 
-// map.json's sampler part (DESIGN.md, "Machine-readable outputs"): {"parameters": {NAME:
+// map.json's sampler part (docs/reference/OUTPUTS.md, "map.json"): {"parameters": {NAME:
 // {"map", "mean", "sd", "q025", "q975", "ess", "rhat"}}, "log_likelihood", "log_prior",
 // "log_posterior", "chains": [{"acceptance", …}], "termination", …, "evidence"? (ToJson of
 // Evidence.h, only with the evidence ladder)}; the caller adds "settings". Undefined numbers

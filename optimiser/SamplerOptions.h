@@ -1,5 +1,5 @@
 #pragma once
-// How the sampler runs (DESIGN.md, "The optimiser"): Metropolis–Hastings on
+// How the sampler runs (docs/internals/SAMPLER.md): Metropolis–Hastings on
 //   log p(Ψ) + log L(Ψ) / T
 // with `chains` independent chains, each a ladder of `temperatures` replicas that exchange
 // states (parallel tempering), annealed from a hot start to T = 1 (§7.2, Fig 7.17), run
@@ -115,7 +115,7 @@ struct SamplerOptions {
   int refine_steps = 20;
   double refine_difference = 1e-4;  // finite-difference step, fraction of the prior width
   double refine_tolerance = 1e-7;   // stop when no parameter moves by more width than this
-  // Polish after the refinement (issue 15): BOBYQA (MapSearch.h) at level 0 from the MAP,
+  // Polish after the refinement: BOBYQA (MapSearch.h) at level 0 from the MAP,
   // first steps of two posterior sds, at most this many evaluations (0: none); the MAP moves
   // only where it scores higher. The finite-difference steps above stall a few hundredths of
   // a percent of the prior width from the mode on the photographs' rough likelihood, where a
@@ -127,26 +127,17 @@ struct SamplerOptions {
   // FinerAtlasPolish.h; the surface likelihood only). Each costs about four of the run's.
   // Run by the sampler's caller; not by the Sampler itself.
   int finer_atlas_polish = 60;
-  // A local search before the sampler (issue 15): BOBYQA (MapSearch.h) coarse-to-fine over
-  // every level from the parameters' initial values, at most this many full-resolution-
-  // equivalent evaluations (0: none). In the peers bench (bench/RESULTS.md) it came within
-  // 1 % of the prior width of the truth in 6–61 equivalents where the sampler took 144–2,529,
-  // but from the centre it failed on 7 of 20 searches: it stops at the first local mode it
-  // climbs. So it does not steer the sampler: its mode is scored
-  // again after the run beside the sampler's MAP, each with the nuisances a calibration at
-  // it would fit (Target::ScoreModes), and becomes the MAP (then polished) only where it
-  // scores higher than the sampler's. Run by the sampler's caller
-  // with SearchStart and AdoptIfHigher (Polish.h); not by the Sampler itself.
-  // On by default since 2026-11-27. Compared as ScoreModes compares them, its mode was not
-  // adopted on house_annex (an annex the scene leaves out) on noise seeds 1–3, nor on Merton;
-  // in the noise study it was adopted once (stairs at σ 0: median error 0.08 → 0.07 % of the
-  // prior width) and every other run's chains, MAP and intervals stayed the same to the digit
-  // (docs/NOISE_STUDY.md). (Under the earlier comparison, at the chains' calibration, it was
-  // adopted on house_annex and the MAP's median error went from 1.59 % to 2.86 %: where the
-  // model is wrong, a higher posterior is not a better answer, so the comparison must be
-  // fair.) It costs 100 equivalents, a few per cent of a run, and rescues chains that settled
-  // on a worse mode (bench/RESULTS.md, "Peers": poster seed 4). An adopted mode keeps the
-  // chains' intervals; where it lies outside them the diagnosis says so.
+  // A local search before the sampler (docs/internals/SAMPLER.md, stage 1): BOBYQA
+  // (MapSearch.h) coarse-to-fine over every level from the parameters' initial values, at
+  // most this many full-resolution-equivalent evaluations (0: none), a few per cent of a run.
+  // It stops at the first local mode it climbs, so it does not steer the sampler: its mode is
+  // scored again after the run beside the sampler's MAP, each with the nuisances a
+  // calibration at it would fit (Target::ScoreModes, a fair comparison: where the model is
+  // wrong a higher posterior is not a better answer), and becomes the MAP (then polished)
+  // only where it scores higher. An adopted mode keeps the chains' intervals; where it lies
+  // outside them the diagnosis says so. Run by the sampler's caller with SearchStart and
+  // AdoptIfHigher (Polish.h); not by the Sampler itself. Why on by default, and what it was
+  // measured to do: docs/internals/DECISIONS.md, 2026-11-25 to 2026-11-27.
   double start_search = 100.0;
 
   // Log evidence (docs/internals/EVIDENCE.md): 0 turns it off. Otherwise one more ladder of

@@ -75,7 +75,7 @@ View ReadView(uvec2 texel, uint i) {
   view.textured = pc.delta2 * g * g;
   // A sample averaging m pixels carries 1/m of their noise. (Its loss still saturates at
   // K, not m·K: clutter that covers many pixels is not made costlier to explain, which
-  // would reward hypotheses that grow over it; docs/LIKELIHOOD.md.)
+  // would reward hypotheses that grow over it; docs/internals/LIKELIHOOD.md.)
   view.r = 1.0 / (pc.sigma2 / max(ViewMass(t), 1.0) + view.textured);
   return view;
 }
@@ -144,7 +144,7 @@ Scalars CompositeTexel(uvec2 texel, uint m, const bool robust, out bool needs_ro
       // The loss's expectation under the noise model: a view's residual from the plain
       // precision-weighted mean has variance a_i·v_i per channel, a_i = 1 − 2p_i/P + Σp_j w_j/(v_i P²),
       // and Σ w_i·3a_i = 3(Σw − Σwp/P). (The loss's saturation beyond kFlat·K lowers it by
-      // under 0.3 %: docs/LIKELIHOOD.md.)
+      // under 0.3 %: docs/internals/LIKELIHOOD.md.)
       expected = 3.0 * max(sw - spw / sp, 0.0);
       const float flat_top = kFlat * pc.outlier;
       float farthest = 0.0;

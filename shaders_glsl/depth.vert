@@ -1,6 +1,7 @@
 #version 460
-// Depth pass (DESIGN.md step 1): the scene seen from one camera, depth only, reversed depth
-// (Projection.h). The view-texture pass reads it as a shadow map.
+// Depth pass (docs/internals/LIKELIHOOD.md, "Passes, per hypothesis"): the scene seen from one
+// camera, depth only, reversed depth (Projection.h). The view-texture pass reads it as a shadow
+// map.
 
 layout(location = 0) in vec3 in_position;
 layout(location = 3) in uint in_node;

@@ -9,15 +9,15 @@
 // point; pixels where t sees no surface keep the clear value (all 0).
 //
 // One draw compares t with all its sources, so t's surface is rasterised and tested against
-// t's depth map once, not once per pair (docs/IMAGE_SPACE.md "Cost"). No blending: a surface
-// coincident with the visible one passes the depth-equal test too and may overwrite the
+// t's depth map once, not once per pair (docs/internals/IMAGE_SPACE.md "Cost"). No blending: a
+// surface coincident with the visible one passes the depth-equal test too and may overwrite the
 // pixel, which a sum over draws would count twice.
 //
-// Noise model (pipelines/model/Evaluation.h, docs/IMAGE_SPACE.md): r_t at the pixel carries noise
-// σ², the sample of r_s ν_s σ² (ν_s < 1 because bilinear interpolation and prefiltering
-// average pixels), and each image δ²|∇I|² more for a projection uncertain by δ pixels. So
-// the difference of the two has variance σ² (1 + ν_s + b_t² + b_s²) per channel with
-// b = δ|∇I|/σ — 2σ² for two raw pixels on a flat texture — and
+// Noise model (pipelines/model/Evaluation.h, docs/internals/IMAGE_SPACE.md): r_t at the pixel
+// carries noise σ², the sample of r_s ν_s σ² (ν_s < 1 because bilinear interpolation and
+// prefiltering average pixels), and each image δ²|∇I|² more for a projection uncertain by δ pixels.
+// So the difference of the two has variance σ² (1 + ν_s + b_t² + b_s²) per channel with b = δ|∇I|/σ
+// — 2σ² for two raw pixels on a flat texture — and
 //   χ² = ‖r_t − s_{s,t}‖² / (σ² (1 + ν_s + b_t² + b_s²)),  capped at 3·cap,
 // has expectation 3 (its degrees of freedom) at the truth.
 #include "image_warp_push.glsl"

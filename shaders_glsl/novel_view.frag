@@ -3,7 +3,7 @@
 // marks covered pixels. Mode 1 writes the interpolated world position instead, which the
 // tests use to check the projection to a hundredth of a pixel. Mode 2 lights the albedo
 // like a photograph (synth): a directional sun with cast shadows plus ambient sky light,
-// applied in linear light to the encoded albedo (docs/COLOUR.md).
+// applied in linear light to the encoded albedo (docs/reference/COLOUR.md).
 #extension GL_GOOGLE_include_directive : require
 #include "novel_view_push.glsl"
 

@@ -1,6 +1,6 @@
-# The rooms of the source include one way (docs/OVERVIEW.md): every folder below may include
-# only itself and the folders listed for it. Run as a test (`layout/IncludesPointOneWay`), so
-# the map in the docs is a fact the build keeps, not a hope. Usage: cmake -DROOT=… -P this.
+# The rooms of the source include one way (docs/internals/OVERVIEW.md): every folder below may
+# include only itself and the folders listed for it. Run as a test (`layout/IncludesPointOneWay`),
+# so the map in the docs is a fact the build keeps, not a hope. Usage: cmake -DROOT=… -P this.
 set(engine engine/common engine/image engine/scene engine/geometry engine/vk)
 set(allowed_engine/common "")
 set(allowed_engine/image engine/common)
@@ -33,7 +33,7 @@ set(violations "")
 foreach(room ${rooms})
   file(GLOB files ${ROOT}/${room}/*.h ${ROOT}/${room}/*.cpp)
   if(NOT files)
-    message(FATAL_ERROR "layout: ${room} holds no source (moved? update tests/LayoutCheck.cmake and docs/OVERVIEW.md)")
+    message(FATAL_ERROR "layout: ${room} holds no source (moved? update tests/LayoutCheck.cmake and docs/internals/OVERVIEW.md)")
   endif()
   foreach(file ${files})
     file(STRINGS ${file} includes REGEX "^#include \"")

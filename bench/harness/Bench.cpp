@@ -145,7 +145,8 @@ std::vector<RowPlan> Plan(const BenchOptions& options) {
   }
 
   // The assets at 640×480 (¼ with --quick); `house` with its first 6 cameras and a 512²
-  // atlas, the configuration DESIGN.md names for the `house` row and the batch sweep.
+  // atlas, the configuration docs/internals/BENCHMARKS.md names for the `house` row and the batch
+  // sweep.
   auto asset = [&](const std::string& name, int max_cameras) {
     const fs::path dir = options.assets_dir / name;
     const double scale = base.image_scale;

@@ -134,8 +134,8 @@ using BenchProgress = std::function<void(const std::string& line)>;
 // with `skipped` set; any other failure throws.
 BenchReport RunBenchmarks(const BenchOptions& options, vk::Device& device, const BenchProgress& progress = {});
 
-// The `--json` contract (DESIGN.md): {"device", "rows": [{"name", "batch",
-// "hypotheses_per_s", "passes_ms", …}], …} plus ceilings, soak, memory and bars.
+// The `--json` contract (docs/reference/CLI.md, `vkrecon bench`): {"device", "rows": [{"name",
+// "batch", "hypotheses_per_s", "passes_ms", …}], …} plus ceilings, soak, memory and bars.
 std::string BenchJson(const BenchReport& report);
 // An aligned table of the rows, then ceilings, memory, soak and bars.
 std::string FormatBenchTable(const BenchReport& report);
@@ -144,9 +144,9 @@ std::string FormatBenchTable(const BenchReport& report);
 // value (log₁₀ triangles, log₂ atlas side, log₂ K). Returns the files written.
 std::vector<std::filesystem::path> WriteBenchPlots(const BenchReport& report, const std::filesystem::path& dir);
 
-// The bars of the issue, evaluated on a report; none for a --quick report, whose
-// configurations are not the bars'.
-// The targets of issue 15 (they were 30 hypotheses/s and 0.9 before it).
+// The bars of bench/RESULTS.md ("Bars"), evaluated on a report; none for a --quick report,
+// whose configurations are not the bars'. Until 2026-11-24 they were 30 hypotheses/s and
+// 0.9.
 constexpr double kHouseHypothesesPerSBar = 60.0;
 constexpr double kBatchRatioBar = 1.0;
 struct BenchBars {

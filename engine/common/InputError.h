@@ -1,6 +1,7 @@
 #pragma once
 // Bad user input. The command line prints what() as one line and exits with status 2
-// (DESIGN.md: "Bad input never crashes"); library code throws it and never exits.
+// (docs/guide/SCENE_FORMAT.md, "Errors": bad input never crashes); library code throws it and never
+// exits.
 
 #include <stdexcept>
 #include <string>

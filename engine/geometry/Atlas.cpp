@@ -1,4 +1,4 @@
-// The texture atlas (DESIGN.md, "The likelihoods"): one chart per face, laid out once
+// The texture atlas (docs/internals/LIKELIHOOD.md, "Charts"): one chart per face, laid out once
 // from the initial parameters so the surface-space likelihood (§5.2–5.5) compares views
 // texel by texel in a fixed parametrisation of the surface.
 //

@@ -2,7 +2,7 @@
 // The texture atlas: every face of every node gets a rectangular chart, sized in
 // proportion to the face's world-space extent at the initial parameters (times a density of
 // its own where the scene asks for likelihood.charts "pixels"), and the layout does not
-// change during a run (DESIGN.md).
+// change during a run (docs/internals/LIKELIHOOD.md, "Charts").
 
 #include <Eigen/Core>
 #include <vector>

@@ -1,5 +1,5 @@
 #pragma once
-// `"atlas": "auto"` and `"levels": "auto"` (docs/SCENE_FORMAT.md, "likelihood"): the atlas
+// `"atlas": "auto"` and `"levels": "auto"` (docs/guide/SCENE_FORMAT.md, "likelihood"): the atlas
 // is sized from what the cameras see of the surface, so a scene written without settings
 // gets the resolution its photographs support rather than a fixed 1024² that costs hours on
 // a CPU device and holds detail no view resolves.
@@ -18,7 +18,7 @@
 namespace vkr {
 
 // One texel per 2 × 2 pixels: the bundled assets, reconstructed at 640 × 480 with 256² atlases
-// (docs/NOISE_STUDY.md), land at 256 by this rule. A finer atlas samples the views' own
+// (docs/internals/NOISE_STUDY.md), land at 256 by this rule. A finer atlas samples the views' own
 // interpolation, a coarser one averages away the edges that locate the surface.
 constexpr double kPixelsPerTexel = 4.0;
 // Share of the atlas the packer fills with charts (Atlas.h adds gutters and shelf waste).

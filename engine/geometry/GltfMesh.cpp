@@ -1,5 +1,5 @@
 // Triangles of a glTF 2.0 file (.glb or .gltf) for `{"primitive": "mesh"}` nodes
-// (DESIGN.md, "Scene file"), read with tinygltf (its implementation lives in the Debian
+// (docs/guide/SCENE_FORMAT.md, "nodes"), read with tinygltf (its implementation lives in the Debian
 // libtinygltf.so; this file only includes the header).
 //
 // What is read: every primitive of mode TRIANGLES (strips and fans are unrolled; points and

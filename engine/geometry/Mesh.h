@@ -1,6 +1,6 @@
 #pragma once
 // Unit primitives and meshes, split into faces; each face owns one chart of the texture
-// atlas (DESIGN.md, "The likelihoods"). Geometry is in the node's own frame; a hypothesis
+// atlas (docs/internals/LIKELIHOOD.md, "Charts"). Geometry is in the node's own frame; a hypothesis
 // only changes the node matrices, never these vertices.
 
 #include <Eigen/Core>
@@ -29,7 +29,7 @@ struct Mesh {
   int TriangleCount() const { return int(indices.size() / 3); }
 };
 
-// The unit primitives of DESIGN.md, in the box [-0.5,0.5]²×[0,1].
+// The unit primitives (docs/guide/SCENE_FORMAT.md, "nodes"), in the box [-0.5,0.5]²×[0,1].
 //   plane: the square at z=0 facing +z, 1 face.
 //   box: 6 faces.  prism: 2 roof slopes, 2 gables, 1 base = 5 faces.
 //   cylinder: `segments` around, side as 1 face (u = angle / 360°, v = 1 − z), 2 caps.

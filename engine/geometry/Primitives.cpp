@@ -1,5 +1,5 @@
-// The unit primitives of DESIGN.md ("Scene file"), in the box [-0.5,0.5]²×[0,1], split
-// into faces that each own one atlas chart (DESIGN.md, "The likelihoods").
+// The unit primitives (docs/guide/SCENE_FORMAT.md, "nodes"), in the box [-0.5,0.5]²×[0,1], split
+// into faces that each own one atlas chart (docs/internals/LIKELIHOOD.md, "Charts").
 //
 // face_uv convention (shared by every primitive, and by the albedo images): a face shows
 // its albedo image *upright and unmirrored to a viewer outside it, with z up*. u grows to

@@ -1,6 +1,6 @@
-// Flattens a scene's geometry for the GPU (DESIGN.md, "Data flows one way"): the vertices
-// of every node are uploaded once per run in their node's frame, each tagged with its node
-// (to pick the node matrix of a hypothesis) and its atlas position (the chart of its face,
+// Flattens a scene's geometry for the GPU (docs/internals/OVERVIEW.md, "How a hypothesis flows"):
+// the vertices of every node are uploaded once per run in their node's frame, each tagged with its
+// node (to pick the node matrix of a hypothesis) and its atlas position (the chart of its face,
 // fixed for the run). A hypothesis then changes only the small buffer of node matrices.
 
 #include <algorithm>

@@ -1,7 +1,7 @@
 #pragma once
 // Images on the host, and their files.
 //
-// Colour convention (docs/COLOUR.md): inside vkrecon every colour is an *encoded* value —
+// Colour convention (docs/reference/COLOUR.md): inside vkrecon every colour is an *encoded* value —
 // what an 8-bit PNG or JPEG stores, divided by 255 — so noise σ and the likelihood work on
 // the thesis's 0–255 scale. 8-bit files are read and written as they are. OpenEXR files hold
 // linear light: they are sRGB-encoded when read and decoded (to linear) when written, so an

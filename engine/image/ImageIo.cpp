@@ -1,7 +1,7 @@
 // Image files: open, sniff the format from the magic bytes (never trust the extension on
 // input: a ".png" that is really a JPEG loads fine, a ".png" that is HTML fails clearly),
 // and dispatch to OpenEXR, the PGM/PPM reader or stb_image. Every failure of a file
-// becomes an InputError naming it (DESIGN.md: bad input never crashes).
+// becomes an InputError naming it (bad input never crashes: docs/guide/SCENE_FORMAT.md, "Errors").
 
 #include <stb/stb_image.h>
 #include <stb/stb_image_write.h>

@@ -1,13 +1,14 @@
 #pragma once
-// Image pyramids for coarse-to-fine likelihoods (DESIGN.md "Pyramids", thesis §7.3): coarse
+// Image pyramids for coarse-to-fine likelihoods (thesis §7.3;
+// docs/internals/LIKELIHOOD.md, "Prefiltering"; docs/internals/SAMPLER.md, stage 2): coarse
 // levels smooth the plateaus of the likelihood, so a run starts on them.
 //
 // Geometry of a level. Level l has size PyramidLevelSize(n, l) = ceil(n / 2^l) per axis,
 // and its pixel (i, j) covers the base-image pixels 2^l·i … 2^l·(i+1) − 1 (likewise j):
-// under the [0,W]×[0,H] pixel convention (pixel centres at +0.5, DESIGN.md), a point at
-// base-image coordinate x lies at x / 2^l in level l. A camera's intrinsics for level l are
-// therefore S·K with S = diag(2^-l, 2^-l, 1) — no half-pixel offset. When n is not a
-// multiple of 2^l the last row/column of a level reaches past the base image; it holds the
+// under the [0,W]×[0,H] pixel convention (pixel centres at +0.5, docs/guide/SCENE_FORMAT.md,
+// "cameras"), a point at base-image coordinate x lies at x / 2^l in level l. A camera's intrinsics
+// for level l are therefore S·K with S = diag(2^-l, 2^-l, 1) — no half-pixel offset. When n is not
+// a multiple of 2^l the last row/column of a level reaches past the base image; it holds the
 // clamped edge, like a GPU sampler with CLAMP_TO_EDGE.
 
 #include <vector>

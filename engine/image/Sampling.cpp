@@ -22,8 +22,9 @@ void Blend(const Image& image, int x0, int x1, int y0, int y1, double fx, double
 }
 
 // A texel index and the fraction towards the next one, for a continuous coordinate whose
-// texel centres sit at +0.5 (the [0,W] convention of DESIGN.md). The coordinate is first
-// clamped to [lo, hi] so that floor() of a huge or NaN value cannot overflow an int.
+// texel centres sit at +0.5 (the [0,W] convention of docs/guide/SCENE_FORMAT.md, "cameras"). The
+// coordinate is first clamped to [lo, hi] so that floor() of a huge or NaN value cannot overflow an
+// int.
 void Split(double coord, double lo, double hi, int* index, double* frac) {
   double p = coord - 0.5;
   if (!(p >= lo)) p = lo;  // also catches NaN

@@ -1,7 +1,7 @@
-// The scene's `cameras`: a camera file, an inline list, or a COLMAP text model (DESIGN.md,
-// "cameras"). Camera files are written by other tools, so their unknown keys are ignored —
-// except `distortion`, which changes the geometry and is read or refused, never dropped;
-// inline cameras are part of the scene file, where unknown keys are errors.
+// The scene's `cameras`: a camera file, an inline list, or a COLMAP text model
+// (docs/guide/SCENE_FORMAT.md, "cameras"). Camera files are written by other tools, so their
+// unknown keys are ignored — except `distortion`, which changes the geometry and is read or
+// refused, never dropped; inline cameras are part of the scene file, where unknown keys are errors.
 
 #include <Eigen/LU>
 #include <algorithm>
@@ -17,8 +17,8 @@
 namespace vkr::scene_detail {
 namespace {
 
-// The image must exist and have the camera's size (DESIGN.md, "Bad input": "an image whose
-// size differs from its camera"). Skipped when the images are yet to be made (synth).
+// The image must exist and have the camera's size (docs/guide/SCENE_FORMAT.md, "Errors":
+// "image of the wrong size"). Skipped when the images are yet to be made (synth).
 void CheckImage(const Reader& r, const std::string& field, const std::filesystem::path& image,
                 int width, int height, const Reader& scene_reader) {
   const std::string shown = scene_reader.Display(image);

@@ -1,7 +1,7 @@
 #pragma once
-// Writes evaluated cameras as a `cameras.json` that LoadScene reads back (DESIGN.md,
-// "cameras": {"cameras": [{"name", "image", "width", "height", "K", "R", "t"}]}), with a
-// camera's lens as `"distortion": {"model", coefficients…}` when it has one.
+// Writes evaluated cameras as a `cameras.json` that LoadScene reads back
+// (docs/guide/SCENE_FORMAT.md, "cameras": {"cameras": [{"name", "image", "width", "height", "K",
+// "R", "t"}]}), with a camera's lens as `"distortion": {"model", coefficients…}` when it has one.
 
 #include <filesystem>
 #include <vector>

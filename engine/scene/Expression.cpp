@@ -88,7 +88,8 @@ int ExpressionTable::Compile(const std::string& text, const std::string& file,
     for (size_t i = 0; i < names_.size(); ++i) entry->parser.DefineVar(names_[i], &values_[i]);
     entry->parser.SetExpr(text);
     // GetUsedVar parses with undefined names allowed, so it lists them too: that is how an
-    // undeclared name is found and named (DESIGN.md: "a name used but not declared").
+    // undeclared name is found and named (docs/guide/SCENE_FORMAT.md, "Errors": "name not
+    // declared").
     for (const auto& [name, ptr] : entry->parser.GetUsedVar()) {
       auto it = std::find(names_.begin(), names_.end(), name);
       if (it == names_.end()) {

@@ -1,9 +1,8 @@
 #pragma once
-// Expressions over parameter names (DESIGN.md, "Scene file": every number may be an
-// expression such as "2*rise" or "rh/h"). Each expression is compiled once, at load time,
-// by muParser into byte code bound to one internal value array; evaluating it at a
-// hypothesis Ψ copies Ψ into that array and runs the byte code. No parsing happens per
-// hypothesis.
+// Expressions over parameter names (docs/guide/SCENE_FORMAT.md, "Numbers and expressions":
+// a number may be an expression such as "2*rise" or "rh/h"). Each expression is compiled once, at
+// load time, by muParser into byte code bound to one internal value array; evaluating it at a
+// hypothesis Ψ copies Ψ into that array and runs the byte code. No parsing happens per hypothesis.
 
 #include <memory>
 #include <mutex>

@@ -1,8 +1,8 @@
 #pragma once
-// Lens distortion of real cameras, as OpenCV and COLMAP define it (DESIGN.md, "cameras"):
-// a map of *normalised* image coordinates (x, y) = (X/Z, Y/Z) of a camera-frame point to the
-// distorted normalised coordinates the lens actually images it at; K then maps those to
-// pixels. vkrecon renders pinhole cameras, so a photograph taken through a lens is resampled
+// Lens distortion of real cameras, as OpenCV and COLMAP define it (docs/guide/SCENE_FORMAT.md,
+// "Lens distortion"): a map of *normalised* image coordinates (x, y) = (X/Z, Y/Z) of a camera-frame
+// point to the distorted normalised coordinates the lens actually images it at; K then maps those
+// to pixels. vkrecon renders pinhole cameras, so a photograph taken through a lens is resampled
 // once, when it is loaded, to the pinhole image of the same K (pipelines/rendering/LensWarp.h).
 //
 // Models and their coefficients, named and ordered as COLMAP's cameras.txt lists them

@@ -1,6 +1,6 @@
-// Validity masks of the cameras (DESIGN.md, "cameras": "Optional masks follow COLMAP:
-// masks/<image name>.png, 0 = ignore"). The rule, one for every scene
-// (docs/SCENE_FORMAT.md, "Masks"): the mask of the image NAME (as the camera names it,
+// Validity masks of the cameras (as in COLMAP: masks/<image name>.png, 0 = ignore). The
+// rule, one for every scene
+// (docs/guide/SCENE_FORMAT.md, "Masks"): the mask of the image NAME (as the camera names it,
 // relative to the images folder, extension included) is FOLDER/NAME.png, with FOLDER the
 // scene's `"masks"` folder or, without that key, `masks/` beside the images folder — COLMAP's
 // project layout (images/ and masks/ side by side), where COLMAP's own feature extraction,

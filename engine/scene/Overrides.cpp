@@ -1,5 +1,5 @@
-// `--set PATH=VALUE` (DESIGN.md, "Command line"): overrides edit the parsed JSON before it
-// is interpreted, so an overridden value passes exactly the checks a value in the file
+// `--set PATH=VALUE` (docs/guide/SCENE_FORMAT.md, "Overrides"): overrides edit the parsed JSON
+// before it is interpreted, so an overridden value passes exactly the checks a value in the file
 // would, and a mistyped key is caught as an unknown key.
 
 #include <cctype>

@@ -1,4 +1,4 @@
-// The scene at a hypothesis Ψ: priors, node matrices and cameras (DESIGN.md, "Scene file").
+// The scene at a hypothesis Ψ: priors, node matrices and cameras (docs/guide/SCENE_FORMAT.md).
 // WorldFromNode and Cameras run once per hypothesis, so transform chains are applied in
 // place to one 4×4 matrix instead of building and multiplying a matrix per component.
 
@@ -138,7 +138,7 @@ std::vector<Eigen::Matrix4d> Scene::WorldFromNode(const std::vector<double>& psi
   for (size_t i = 0; i < nodes.size(); ++i) {
     const int parent = nodes[i].parent;
     if (parent >= int(i)) throw std::logic_error("Scene: a node's parent must precede it");
-    // world = parent_world · T1 · T2 · … (DESIGN.md, "nodes").
+    // world = parent_world · T1 · T2 · … (docs/guide/SCENE_FORMAT.md, "nodes").
     world[i] = parent >= 0 ? world[size_t(parent)] : Eigen::Matrix4d::Identity();
     ApplyTransforms(*this, nodes[i].transforms, psi, world[i]);
   }

@@ -1,6 +1,6 @@
 #pragma once
-// The scene model: what a scene file describes, independent of Vulkan (DESIGN.md,
-// "Scene file"). A Scene is immutable after loading; a hypothesis Ψ is a vector of
+// The scene model: what a scene file describes, independent of Vulkan
+// (docs/guide/SCENE_FORMAT.md). A Scene is immutable after loading; a hypothesis Ψ is a vector of
 // parameter values in the order of Scene::parameters, and the scene turns it into node
 // matrices and cameras.
 
@@ -91,7 +91,7 @@ struct CameraModel {
   // is undistorted once, with that K, when it is loaded (pipelines/rendering/LensWarp.h).
   LensDistortion distortion;
   // The validity mask (absolute path, 0 = ignore that pixel), or empty: every pixel counts.
-  // Found by the masks folder rule of docs/SCENE_FORMAT.md, "Masks".
+  // Found by the masks folder rule of docs/guide/SCENE_FORMAT.md, "Masks".
   std::filesystem::path mask;
 };
 
@@ -149,8 +149,8 @@ struct LikelihoodSettings {
   // NoiseCalibration.h): 8, 16, 32 or 64; 0 ("auto", the default) takes the largest κ over
   // those sizes.
   int sandwich_blocks = 0;
-  // The image-space likelihood only (docs/IMAGE_SPACE.md): 0 compares every ordered camera
-  // pair; k > 0 each target camera with its k best sources, ranked by `partner_ranking`
+  // The image-space likelihood only (docs/internals/IMAGE_SPACE.md): 0 compares every ordered
+  // camera pair; k > 0 each target camera with its k best sources, ranked by `partner_ranking`
   // ("distance": nearest centres, "direction": most similar optical axes).
   int partners = 0;
   std::string partner_ranking = "distance";
@@ -178,7 +178,7 @@ struct SamplerSettings {
   int batch = 16;
   std::uint64_t seed = 1;
   // Any further fields of the scene's "sampler" object as JSON text ("{}" when none):
-  // SamplerOptions by name, validated by `vkrecon run` (docs/SCENE_FORMAT.md).
+  // SamplerOptions by name, validated by `vkrecon run` (docs/guide/SCENE_FORMAT.md).
   std::string options_json = "{}";
 };
 
@@ -251,8 +251,8 @@ struct LoadOptions {
 };
 
 // Loads and validates a scene file. Throws InputError (file, JSON path, problem) for every
-// bad input listed in DESIGN.md. Nodes must be listed parents first (a child before its
-// parent is an error), so node indices are the file's order.
+// bad input listed in docs/guide/SCENE_FORMAT.md, "Errors". Nodes must be listed parents first (a
+// child before its parent is an error), so node indices are the file's order.
 Scene LoadScene(const std::filesystem::path& file,
                 const std::vector<SceneOverride>& overrides = {},
                 const LoadOptions& options = {});

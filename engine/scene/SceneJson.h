@@ -1,7 +1,7 @@
 #pragma once
 // Internal to engine/scene: reading typed values out of a scene or camera file with the
 // JSON path of every value at hand, so each error names file, path and problem in one line
-// (DESIGN.md, "Bad input … one line naming the file, the JSON path and what is wrong").
+// (docs/guide/SCENE_FORMAT.md, "Errors").
 // Objects keep the file's key order (ordered_json): the order of `parameters` is the
 // order of Ψ.
 
@@ -34,7 +34,7 @@ struct SceneAccess {
 // parsers silently keep the last one, which would be a silent default).
 Json ParseJsonFile(const std::filesystem::path& file, const std::string& display);
 
-// Applies `--set PATH=VALUE` overrides in order (DESIGN.md, "Command line"), creating
+// Applies `--set PATH=VALUE` overrides in order (docs/guide/SCENE_FORMAT.md, "Overrides"), creating
 // missing object keys. Returns the paths set, so a later "unknown key" can say it came
 // from the command line.
 std::set<std::string> ApplyOverrides(Json& root, const std::vector<SceneOverride>& overrides,
@@ -77,7 +77,8 @@ struct Reader {
 };
 
 // Reads the `cameras` value of the scene file (file name, inline list, or COLMAP model;
-// DESIGN.md "cameras") into scene.cameras. Camera images resolve against scene.images_dir.
+// docs/guide/SCENE_FORMAT.md, "cameras") into scene.cameras. Camera images resolve against
+// scene.images_dir.
 void ReadCameras(const Json& value, const Reader& scene_reader, bool require_images,
                  Scene& scene);
 

@@ -1,4 +1,4 @@
-// LoadScene: the scene file contract of DESIGN.md ("Scene file (JSON) — a contract"). The
+// LoadScene: the scene file contract of docs/guide/SCENE_FORMAT.md. The
 // order matters: overrides first (they are part of the input), then parameters (the
 // expressions of nodes and cameras need their names), then everything that may hold an
 // expression, and last the checks that need the whole scene (unused parameters, values at
@@ -265,8 +265,9 @@ void ReadNodes(const Reader& r, const Json& j, std::vector<Node>& nodes) {
   }
 }
 
-// Checks that need the whole scene: every parameter is used (DESIGN.md: "A parameter used
-// nowhere … is an error"), and every expression is finite at the initial values.
+// Checks that need the whole scene: every parameter is used (docs/guide/SCENE_FORMAT.md,
+// "parameters": one declared but used nowhere is an error), and every expression is finite at the
+// initial values.
 void CheckScene(const Scene& scene, const std::string& display) {
   const ExpressionTable& table = scene.expressions();
   for (size_t p = 0; p < scene.parameters.size(); ++p)

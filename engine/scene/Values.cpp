@@ -1,5 +1,5 @@
 // Parameter value files: `--at P.json` and every asset's `truth.json` are
-// {"param": value, …} (DESIGN.md, "Machine-readable outputs").
+// {"param": value, …} (docs/guide/SCENE_FORMAT.md, "Parameter files").
 
 #include <charconv>
 #include <cmath>

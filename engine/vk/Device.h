@@ -1,7 +1,7 @@
 #pragma once
 // The one headless Vulkan device of a run: instance, physical-device choice (a GPU first,
 // Mesa lavapipe as the fallback), one queue that does graphics + compute + transfer, and the
-// validation layer when asked for. No window code anywhere (DESIGN.md, "Engine rules").
+// validation layer when asked for. No window code anywhere (headless: docs/internals/OVERVIEW.md).
 
 #include <vulkan/vulkan.h>
 

@@ -1,5 +1,5 @@
 #pragma once
-// What the photographs show that the scene leaves out (docs/LIKELIHOOD.md, "Clutter"): an
+// What the photographs show that the scene leaves out (docs/internals/LIKELIHOOD.md, "Clutter"): an
 // annex, a chimney, a person, a parked car. The robust composite already bounds what one
 // such view costs a texel, but not what a hypothesis gains by hiding it — growing surface
 // over the ground an annex stands on, or in front of the views it spoils, removes those

@@ -1,6 +1,6 @@
 #pragma once
-// The image-space photo-consistency likelihood (DESIGN.md "Image-space likelihood"; thesis
-// §4), assembled from passes: per camera a depth pass (DepthPass, shared with the surface
+// The image-space photo-consistency likelihood (docs/internals/IMAGE_SPACE.md;
+// thesis §4), assembled from passes: per camera a depth pass (DepthPass, shared with the surface
 // likelihood), per target camera t a warp pass that renders the hypothesis from t, textures
 // it with each source r_s through a shadow-map test from s (the synthetic images s_{s,t}) and
 // writes per pixel the sum over sources of the χ² of r_t against them (TargetWarpPass, up to
@@ -17,7 +17,7 @@
 // χ²_p = ‖r_t(p) − s_{s,t}(p)‖² / (σ² v_p), v_p = 1 + ν_s + b_t² + b_s²: a difference of two
 // noisy samples has variance 2σ² per channel when both are raw pixels (ν_s = 1, b = 0); the
 // sample of r_s is interpolated and prefiltered (ν_s < 1) and each image adds δ²|∇I|² for a
-// projection uncertain by δ pixels (b = δ|∇I|/σ). docs/IMAGE_SPACE.md has the details and
+// projection uncertain by δ pixels (b = δ|∇I|/σ). docs/internals/IMAGE_SPACE.md has the details and
 // the thesis's bias experiment.
 //
 // Everything is allocated when the likelihood is created (the per-pair images of a dump on

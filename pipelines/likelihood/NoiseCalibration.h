@@ -1,7 +1,7 @@
 #pragma once
-// The noise model's nuisance parameters, estimated at the mode a run settles on (docs/
-// LIKELIHOOD.md, "Honest intervals"). Three things make the textbook likelihood wrong or
-// overconfident on photographs:
+// The noise model's nuisance parameters, estimated at the mode a run settles on
+// (docs/internals/LIKELIHOOD.md, "Honest intervals"). Three things make the textbook likelihood
+// wrong or overconfident on photographs:
 //   - the photographs' exposure and white balance differ: the per-camera colour correction
 //     (Photometric.h) is refitted at the mode;
 //   - σ and δ: the configured noise may not be the images' (`"sigma": "auto"` estimates
@@ -65,7 +65,7 @@ struct NoiseCalibration {
 // default of `likelihood.sandwich_blocks`) takes the largest κ over these sides among those
 // that still leave enough blocks, erring toward width: on house_annex over three seeds 13 of
 // 21 truths held against 5 of 21 over 8×8 blocks, while the clean bundled assets' intervals
-// widen too, some far beyond their errors (docs/LIKELIHOOD.md, "Honest intervals").
+// widen too, some far beyond their errors (docs/internals/LIKELIHOOD.md, "Honest intervals").
 inline constexpr int kSandwichBlockSides[] = {8, 16, 32, 64};
 inline constexpr int kSandwichBlocksAuto = 0;
 

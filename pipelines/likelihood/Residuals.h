@@ -2,7 +2,7 @@
 // Where the photographs disagree with a hypothesis, node by node: a fit whose residuals
 // look like noise everywhere is credible; one where a node's views disagree far beyond the
 // noise, or where many views are outliers, says which part of the scene is wrong or missing
-// (docs/LIKELIHOOD.md, "Diagnosis"). Read from a surface-likelihood dump.
+// (docs/internals/LIKELIHOOD.md, "Diagnosis"). Read from a surface-likelihood dump.
 
 #include <filesystem>
 #include <string>

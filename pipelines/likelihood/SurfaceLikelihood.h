@@ -1,8 +1,8 @@
 #pragma once
-// The surface-space photo-consistency likelihood (DESIGN.md; thesis §5–7), assembled from
-// passes: per camera a depth pass and a view-specific texture pass, one interior
-// (occlusion) pass, a composite + deviation compute pass that also reduces per workgroup,
-// and a final reduction to one ReducedScalars per hypothesis.
+// The surface-space photo-consistency likelihood (docs/internals/LIKELIHOOD.md; thesis §5–7),
+// assembled from passes: per camera a depth pass and a view-specific texture pass, one interior
+// (occlusion) pass, a composite + deviation compute pass that also reduces per workgroup, and a
+// final reduction to one ReducedScalars per hypothesis.
 //
 // Everything is allocated when the likelihood is created. Evaluate() writes the batch's
 // node matrices into a host-visible buffer, records all K hypotheses into one command

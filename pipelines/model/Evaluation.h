@@ -1,7 +1,7 @@
 #pragma once
 // What a likelihood reduces one hypothesis to, and how the host turns those few scalars
-// into a log-likelihood (DESIGN.md, "The likelihoods", step 4; thesis §7.4;
-// docs/LIKELIHOOD.md explains every choice).
+// into a log-likelihood (thesis §7.4;
+// docs/internals/LIKELIHOOD.md, "The statistic", explains every choice).
 //
 // The surface likelihood's model, per atlas texel t on the surface and outside every other
 // primitive, seen by views i with colour c_i (photometrically corrected, c = gain·c_raw +
@@ -57,13 +57,13 @@ struct LikelihoodModel {
   // §7.1: log-prior penalty per exterior texel that no view sees, in units of one degree of
   // freedom's expected contribution: surface hidden from every camera is not free. (Not K,
   // like a texel one view sees: surface that other surface hides from every camera, such as
-  // a ground plane behind walls, would then push the walls about; docs/LIKELIHOOD.md.)
+  // a ground plane behind walls, would then push the walls about; docs/internals/LIKELIHOOD.md.)
   double unseen_penalty = 1.0;
   // Factor on `unverified`: a texel only one photograph sees cannot be checked, so it is
   // charged what its view would cost as an outlier, −½·w·K: no surface gains by moving
   // where only one camera looks, since no compared texel costs more than an average view's
-  // saturation beyond its expectation (docs/LIKELIHOOD.md, "No free surface"). 0 turns the
-  // charge off.
+  // saturation beyond its expectation (docs/internals/LIKELIHOOD.md, "No free surface"). 0 turns
+  // the charge off.
   double unverified_penalty = 1.0;
 };
 

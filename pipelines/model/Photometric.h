@@ -1,5 +1,5 @@
 #pragma once
-// Photometric differences between photographs (docs/LIKELIHOOD.md, "Exposure and white
+// Photometric differences between photographs (docs/internals/LIKELIHOOD.md, "Exposure and white
 // balance"): auto-exposure, white balance and tone curves make the same surface look
 // brighter or bluer in one photo than in another. The surface likelihood compares each
 // camera's colours after a per-camera, per-channel correction c' = gain·c + offset, whose

@@ -1,7 +1,7 @@
 #pragma once
-// Composite + deviation pass (thesis §6, DESIGN.md steps 3–4) and the final reduction: per
-// hypothesis one ReducedScalars in host-visible memory, summed in a fixed order so that a
-// hypothesis evaluates bit-identically wherever it sits in a batch.
+// Composite + deviation pass (thesis §6; docs/internals/LIKELIHOOD.md, "Passes, per hypothesis")
+// and the final reduction: per hypothesis one ReducedScalars in host-visible memory, summed in a
+// fixed order so that a hypothesis evaluates bit-identically wherever it sits in a batch.
 
 #include <vector>
 

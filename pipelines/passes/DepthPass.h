@@ -1,6 +1,6 @@
 #pragma once
-// Depth pass (DESIGN.md, surface likelihood step 1): the hypothesis seen from one camera,
-// depth only (reversed, D32F), read by the view-specific texture pass as a shadow map.
+// Depth pass (docs/internals/LIKELIHOOD.md, "Passes, per hypothesis"): the hypothesis seen from one
+// camera, depth only (reversed, D32F), read by the view-specific texture pass as a shadow map.
 
 #include <Eigen/Core>
 

@@ -1,6 +1,6 @@
 #pragma once
 // The scene's geometry on the GPU, uploaded once per run, and the small buffer of node
-// matrices that is all a hypothesis changes (DESIGN.md, "Data flows one way").
+// matrices that is all a hypothesis changes (docs/internals/OVERVIEW.md, "How a hypothesis flows").
 
 #include <Eigen/Core>
 #include <vector>

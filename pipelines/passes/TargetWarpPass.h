@@ -1,16 +1,16 @@
 #pragma once
-// Image-space warp pass (thesis §4.2–4.3, DESIGN.md "Image-space likelihood"): for a target
+// Image-space warp pass (thesis §4.2–4.3, docs/internals/IMAGE_SPACE.md): for a target
 // camera t and a group of its source cameras s, render the hypothesis from t, and per pixel
 // and source texture it by projecting r_s onto it with a shadow-map visibility test from s
 // (the synthetic image s_{s,t}); write per pixel of t the sum of the pixel pairs' χ² under
 // the noise model of shaders_glsl/image_warp.glsl and how many sources compared.
 //
 // One draw serves a whole group, so t's surface is rasterised and depth-tested once per
-// group rather than once per pair (docs/IMAGE_SPACE.md "Cost"). Only the surface t actually
-// sees is shaded: t's depth map (DepthPass) is the pass's read-only depth attachment, with a
-// depth-equal test. Output per pixel (RGBA32F): r = Σ χ² over the sources that see the
-// surface point too, g = their count, b = the count of sources that do not, a = 1; all 0
-// where t sees no surface (background, or the back of a face).
+// group rather than once per pair (docs/internals/IMAGE_SPACE.md "Cost"). Only the surface t
+// actually sees is shaded: t's depth map (DepthPass) is the pass's read-only depth attachment, with
+// a depth-equal test. Output per pixel (RGBA32F): r = Σ χ² over the sources that see the surface
+// point too, g = their count, b = the count of sources that do not, a = 1; all 0 where t sees no
+// surface (background, or the back of a face).
 
 #include <Eigen/Core>
 #include <map>

@@ -1,8 +1,8 @@
 #pragma once
-// View-specific texture pass (thesis §5.2–5.5, DESIGN.md step 2): for camera i, rasterise
-// every face in atlas space and write, per texel, the colour r_i shows at the texel's
-// projection, a weight (§6.3) and the image's texture there (shaders_glsl/view_texel.glsl),
-// or weight 0 where camera i cannot see the texel.
+// View-specific texture pass (thesis §5.2–5.5, docs/internals/LIKELIHOOD.md): for camera i,
+// rasterise every face in atlas space and write, per texel, the colour r_i shows at the texel's
+// projection, a weight (§6.3) and the image's texture there (shaders_glsl/view_texel.glsl), or
+// weight 0 where camera i cannot see the texel.
 
 #include <Eigen/Core>
 #include <vector>

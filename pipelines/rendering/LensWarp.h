@@ -2,7 +2,7 @@
 // Images through a lens (engine/scene/LensDistortion.h), both ways, on the host:
 //  * a photograph taken through a lens is resampled once, when it is loaded, to the pinhole
 //    image of the same K and size, which is all the likelihoods ever see (why there and not
-//    per texel in the passes: docs/REAL_CAMERAS.md); the pixels whose distorted position falls
+//    per texel in the passes: docs/guide/REAL_CAMERAS.md); the pixels whose distorted position falls
 //    outside the photograph are marked invalid, never compared as black;
 //  * `synth` and `render` draw a distorted camera as an over-size, over-sampled pinhole view
 //    that covers its whole distorted frame, resampled to the distorted image.

@@ -1,5 +1,5 @@
 #pragma once
-// Masks of chosen nodes for `vkrecon synth --mask-nodes` (docs/SCENE_FORMAT.md, "Masks"):
+// Masks of chosen nodes for `vkrecon synth --mask-nodes` (docs/guide/SCENE_FORMAT.md, "Masks"):
 // the pixels where an object that a model will leave out (an occluder, a passer-by) is
 // the visible surface, so that a reconstruction can ignore them as COLMAP's masks do.
 

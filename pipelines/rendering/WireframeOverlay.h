@@ -1,9 +1,10 @@
 #pragma once
-// The fitted model drawn as a wireframe over each photograph (issue 14): the quickest way to
+// The fitted model drawn as a wireframe over each photograph (the run's report,
+// docs/guide/REPORT.md): the quickest way to
 // see whether a reconstruction lines up with what the cameras saw. Host only: the scene's
 // meshes at Ψ, projected through each camera (its lens included) onto the photograph as
 // stored, with anti-aliased lines (Wu's algorithm). No occlusion test: hidden edges are
-// drawn too (docs/REPORT.md).
+// drawn too (docs/guide/REPORT.md).
 
 #include <Eigen/Core>
 #include <array>

@@ -1,5 +1,5 @@
 // `vkrecon bench` as a script meets it: --json parses and carries the contract fields
-// (DESIGN.md) for one small row, and a bad --only exits 2 with one line. No timing is
+// (docs/reference/CLI.md) for one small row, and a bad --only exits 2 with one line. No timing is
 // asserted: these are benchmark figures, not timed tests.
 
 #include <gtest/gtest.h>

@@ -137,7 +137,8 @@ TEST(Diagnosis, DoubtsIntervalsWhenTheCurvatureAtTheModeIsInconsistent) {
   Inputs in;
   in.summary.calibration = {{"kappa", 40.0}, {"kappa_min", 12.0}, {"kappa_max", 80.0}};
   EXPECT_TRUE(in.Run().ok());
-  // poster at σ = 16 in docs/NOISE_STUDY.md: κ 2.7, eigenvalues 0.74–5.8, 1 of 4 intervals held the truth.
+  // poster at σ = 16 in docs/internals/NOISE_STUDY.md: κ 2.7, eigenvalues 0.74–5.8, 1 of 4
+  // intervals held the truth.
   in.summary.calibration = {{"kappa", 2.7}, {"kappa_min", 0.74}, {"kappa_max", 5.8}};
   const Diagnosis d = in.Run();
   EXPECT_EQ(d.verdict, Diagnosis::Verdict::Unsettled);

@@ -1,4 +1,4 @@
-// report.html (issue 14, docs/REPORT.md) as a user meets it: every run writes it with an
+// report.html (docs/guide/REPORT.md) as a user meets it: every run writes it with an
 // overlay per camera; `vkrecon report` rebuilds it byte for byte from the folder; without the
 // JavaScript packages it still writes and says what it left out; a folder that is not a
 // run's is bad input; and headless Chromium finds no error in the page.

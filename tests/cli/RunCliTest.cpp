@@ -134,10 +134,10 @@ TEST(RunCli, TheSandwichBlocksOfTheSceneAreTheCalibrations) {
   EXPECT_NE(bad.err.find("likelihood.sandwich_blocks"), std::string::npos) << bad.err;
 }
 
-// Issue 13's "kill anywhere": SIGKILL at 20 moments drawn uniformly over an uninterrupted
-// run's duration (loading, sampling, settling, writing the outputs), each resumed with
-// --resume, must end with the uninterrupted run's map and chain every time. A shorter run
-// than above keeps the 20 cycles to a couple of minutes.
+// Kill anywhere (docs/internals/HARDENING.md, "Kill anywhere"): SIGKILL at 20 moments drawn
+// uniformly over an uninterrupted run's duration (loading, sampling, settling, writing the
+// outputs), each resumed with --resume, must end with the uninterrupted run's map and chain every
+// time. A shorter run than above keeps the 20 cycles to a couple of minutes.
 TEST(RunCli, KilledAnywhereAndResumedGivesTheUninterruptedResult) {
   test::TempDir dir;
   ASSERT_TRUE(SynthBoxImages(dir.path(), " --noise 8"));

@@ -1,4 +1,4 @@
-// `mpirun -n R vkrecon run` (docs/SCALE_OUT.md): with the same seed and replica layout, 1, 2
+// `mpirun -n R vkrecon run` (docs/guide/SCALE_OUT.md): with the same seed and replica layout, 1, 2
 // and 4 ranks (oversubscribed on this machine, loopback) give a map.json and chain.csv
 // bit-identical to a plain one-process run; a rank killed mid-run ends the job without a
 // result, and `--resume` under mpirun finishes with the uninterrupted result. Skipped when
@@ -40,7 +40,7 @@ std::string Mpirun(int ranks) {
 }
 #endif
 
-// The small box run: quarter size, 4 chains of 2 temperatures (batch 8).
+// A small box run: quarter size, 4 chains of 2 temperatures (batch 8).
 std::string BoxRun(const fs::path& dir, int iterations = 40) {
   return kVkrecon + " run -q " + Q(kBox / "scene.json") + " --set cameras=" + Q(dir / "images/cameras.json") +
          " --set images=" + Q(dir / "images") +
@@ -140,7 +140,7 @@ TEST(ScaleOut, RanksGiveTheOneProcessResultBitForBit) {
 
 #endif
 
-// `vkrecon run FOLDER -o OUT` (docs/SCALE_OUT.md, "Many scenes"): two small box scenes with
+// `vkrecon run FOLDER -o OUT` (docs/guide/SCALE_OUT.md, "Many scenes"): two small box scenes with
 // different seeds in FOLDER/a and FOLDER/b, each written with absolute paths.
 fs::path WriteTwoScenes(const fs::path& dir) {
   nlohmann::json scene = nlohmann::json::parse(std::ifstream(kBox / "scene.json"));

@@ -1,5 +1,5 @@
 // "atlas": "auto" (engine/geometry/AtlasFootprint.h): the bundled assets, whose 256² atlases
-// docs/NOISE_STUDY.md validated at 640 × 480, get 256 by the rule; the atlas follows the
+// docs/internals/NOISE_STUDY.md validated at 640 × 480, get 256 by the rule; the atlas follows the
 // photographs' resolution; surface no camera sees needs no texels.
 
 #include <gtest/gtest.h>

@@ -1,4 +1,4 @@
-// The texture atlas (DESIGN.md, "The likelihoods"): layout (no overlaps, common scale,
+// The texture atlas (docs/internals/LIKELIHOOD.md, "Charts"): layout (no overlaps, common scale,
 // aspect ratios from world extents) and the CPU bake of albedo images into it.
 
 #include <gtest/gtest.h>

@@ -1,4 +1,4 @@
-// glTF meshes (DESIGN.md, "Scene file": `{"mesh": "file.glb"}`): models built in code,
+// glTF meshes (docs/guide/SCENE_FORMAT.md, "nodes": `{"mesh": "file.glb"}`): models built in code,
 // written with tinygltf, read back by LoadGltfMesh, and bad files.
 
 #include <gtest/gtest.h>

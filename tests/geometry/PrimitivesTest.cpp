@@ -1,5 +1,5 @@
-// The unit primitives (DESIGN.md, "Scene file"): extent, faces, orientation, closedness,
-// areas and volumes, and the upright face_uv convention documented in Primitives.cpp.
+// The unit primitives (docs/guide/SCENE_FORMAT.md, "nodes"): extent, faces, orientation,
+// closedness, areas and volumes, and the upright face_uv convention documented in Primitives.cpp.
 
 #include <gtest/gtest.h>
 

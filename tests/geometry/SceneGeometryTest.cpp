@@ -1,5 +1,5 @@
-// Flattened scene geometry (DESIGN.md, "Data flows one way") and albedo loading, on
-// scenes built in code.
+// Flattened scene geometry (docs/internals/OVERVIEW.md, "How a hypothesis flows") and albedo
+// loading, on scenes built in code.
 
 #include <gtest/gtest.h>
 #include <tiny_gltf.h>

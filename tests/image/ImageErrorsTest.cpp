@@ -1,5 +1,5 @@
 // Bad files and bad output paths: each an InputError naming the file, on one line, never a
-// crash (DESIGN.md).
+// crash (docs/guide/SCENE_FORMAT.md, "Errors").
 
 #include <gtest/gtest.h>
 #include <stb/stb_image_write.h>

@@ -1,10 +1,10 @@
-// Camera parameters estimated with the scene (issue 5, thesis §4.5.3), on the `focal`
-// asset: the box, photographed with a focal length 4 % longer than the calibration says
-// (f = 1.04), the principal point 6 px right of it (px = 6) and cam4 8 cm higher than its
-// recorded pose (dz = 0.08). The asset's cameras.json holds the nominal calibration with
-// f, px and dz written into K and pose. For each of them, with every other parameter at the
-// truth, the surface likelihood's profile across the prior (41 steps) peaks within one step
-// of the truth, and the recorded calibration (f = 1, px = 0, dz = 0) scores clearly worse.
+// Camera parameters estimated with the scene (docs/guide/CAMERA_PARAMETERS.md, thesis §4.5.3), on
+// the `focal` asset: the box, photographed with a focal length 4 % longer than the calibration says
+// (f = 1.04), the principal point 6 px right of it (px = 6) and cam4 8 cm higher than its recorded
+// pose (dz = 0.08). The asset's cameras.json holds the nominal calibration with f, px and dz
+// written into K and pose. For each of them, with every other parameter at the truth, the surface
+// likelihood's profile across the prior (41 steps) peaks within one step of the truth, and the
+// recorded calibration (f = 1, px = 0, dz = 0) scores clearly worse.
 //
 // The likelihood must read the images through the nominal calibration, as `vkrecon run
 // assets/focal/scene.json --set images=DIR` does. The cameras.json that synth writes next to

@@ -1,6 +1,6 @@
 // The thesis's claim (§4.6 and abstract), reproduced: the image-space likelihood is biased
 // towards hypotheses that hide surface, and the surface-space likelihood with its occlusion
-// prior is not. docs/IMAGE_SPACE.md describes the experiment and shows the profiles.
+// prior is not. docs/internals/IMAGE_SPACE.md describes the experiment and shows the profiles.
 //
 // A textured sign stands on textured ground in front of five cameras. The wrong hypothesis
 // turns the sign to face away from all of them (tilt −90° instead of +90°): it still hides

@@ -1,7 +1,7 @@
-// The bar of the surface likelihood (issue 3): on each bundled asset, at noise σ = 0 and
-// σ = 16, the profile of every parameter (the others at the truth, 41 steps across its
-// prior range) peaks within one step of the truth. Small images (quarter size, 160×120)
-// and a 128² atlas keep it to seconds on lavapipe.
+// The bar of the surface likelihood (docs/internals/LIKELIHOOD.md, "Profiles"): on each bundled
+// asset, at noise σ = 0 and σ = 16, the profile of every parameter (the others at the truth, 41
+// steps across its prior range) peaks within one step of the truth. Small images (quarter size,
+// 160×120) and a 128² atlas keep it to seconds on lavapipe.
 
 #include <gtest/gtest.h>
 

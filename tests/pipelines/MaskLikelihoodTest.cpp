@@ -56,7 +56,7 @@ std::vector<double> Masks::truth_;
 // peak far from the truth); with the mask every profile peaks within one step of it. The
 // loss saturates late here (K = 243: a view 9 sds off in every channel) so that the mask
 // alone is tested: with the default K = 27 the robust composite by itself already keeps a
-// pole this thin from biasing the box (docs/LIKELIHOOD.md says what it does not catch).
+// pole this thin from biasing the box (docs/internals/LIKELIHOOD.md says what it does not catch).
 TEST_F(Masks, AnUnmodelledOccluderBiasesTheSurfaceLikelihoodUntilMasked) {
   constexpr int kSteps = 41;
   for (bool masked : {false, true}) {

@@ -1,8 +1,8 @@
-// "No free surface" (docs/LIKELIHOOD.md): surface whose photographs disagree — here a sign
-// that shows each camera another picture, as a screen or a glossy sign would — must not
-// gain by moving where only one camera sees it, which takes it out of the comparison.
-// Without the occlusion prior's charge for surface one view alone sees, the sign slid out
-// of two of the three cameras' frames beats the truth; with it, the truth wins.
+// "No free surface" (docs/internals/LIKELIHOOD.md): surface whose photographs disagree — here a
+// sign that shows each camera another picture, as a screen or a glossy sign would — must not gain
+// by moving where only one camera sees it, which takes it out of the comparison. Without the
+// occlusion prior's charge for surface one view alone sees, the sign slid out of two of the three
+// cameras' frames beats the truth; with it, the truth wins.
 
 #include <gtest/gtest.h>
 

@@ -1,12 +1,12 @@
 #pragma once
-// A CPU reference of the surface-space photo-consistency likelihood (DESIGN.md, "The
-// likelihoods"; thesis §5–7), written to be independent of the GPU path: no rasterisation
-// of the scene and no shadow maps. Texels are found by testing atlas texel centres against
-// the flattened triangles in atlas-UV space, interior points by analytic inside tests of
-// the unit primitives, visibility by casting the segment texel → camera centre against
-// every triangle of the scene (Möller–Trumbore), colours by host bilinear sampling of the
-// float pyramid (optionally prefiltered across levels, as the GPU's mip-mapped sampler).
-// Everything is in double precision. The tests compare the GPU's reduced scalars with it.
+// A CPU reference of the surface-space photo-consistency likelihood
+// (docs/internals/LIKELIHOOD.md; thesis §5–7), written to be independent of the GPU path: no
+// rasterisation of the scene and no shadow maps. Texels are found by testing atlas texel centres
+// against the flattened triangles in atlas-UV space, interior points by analytic inside tests of
+// the unit primitives, visibility by casting the segment texel → camera centre against every
+// triangle of the scene (Möller–Trumbore), colours by host bilinear sampling of the float pyramid
+// (optionally prefiltered across levels, as the GPU's mip-mapped sampler). Everything is in double
+// precision. The tests compare the GPU's reduced scalars with it.
 
 #include <Eigen/Core>
 #include <cstdint>

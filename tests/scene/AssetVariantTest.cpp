@@ -1,5 +1,5 @@
 // assets/house_annex/scene_eaves.json is what a user writes who sees the roof overhang the
-// walls (docs/REAL_PHOTOS.md, "The synthetic clutter assets"): at the truth and the true
+// walls (docs/guide/REAL_PHOTOS.md, "The synthetic clutter assets"): at the truth and the true
 // overhang it must build the roof the photographs were rendered with (synth.json), which
 // the plain scene cannot, or the variant would fix a model error by making another.
 

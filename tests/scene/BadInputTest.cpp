@@ -1,5 +1,5 @@
-// One test per bad input of DESIGN.md ("Bad input … ends with exit status 2 and one line
-// naming the file, the JSON path and what is wrong"): each checks file, path and problem.
+// One test per bad input of docs/guide/SCENE_FORMAT.md, "Errors" (exit status 2 and one line
+// naming the file, the JSON path and what is wrong): each checks file, path and problem.
 
 #include <gtest/gtest.h>
 

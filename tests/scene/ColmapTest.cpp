@@ -1,4 +1,5 @@
-// COLMAP text models and camera files (DESIGN.md, "cameras").
+// COLMAP text models and camera files (docs/guide/SCENE_FORMAT.md, "cameras";
+// docs/guide/REAL_CAMERAS.md).
 
 #include "engine/scene/Colmap.h"
 

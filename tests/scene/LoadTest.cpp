@@ -1,4 +1,5 @@
-// The example scene of DESIGN.md loads as written, and missing sections take the defaults.
+// The house of docs/guide/SCENE_FORMAT.md ("Worked example: the house", without its albedos
+// and with constant settings) loads as written, and missing sections take the defaults.
 
 #include <gtest/gtest.h>
 
@@ -90,7 +91,7 @@ TEST(Load, DefaultsForMissingSections) {
   EXPECT_EQ(s.likelihood.levels, l.levels);
   EXPECT_EQ(s.likelihood.partners, 0);  // all pairs
   EXPECT_EQ(s.likelihood.partner_ranking, "distance");
-  // The defaults a scene without settings gets (docs/SCENE_FORMAT.md): σ, atlas, levels and
+  // The defaults a scene without settings gets (docs/guide/SCENE_FORMAT.md): σ, atlas, levels and
   // the length all decided from the data.
   EXPECT_TRUE(s.likelihood.sigma_auto);
   EXPECT_EQ(s.likelihood.atlas, 0);

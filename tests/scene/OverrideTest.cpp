@@ -1,4 +1,4 @@
-// `--set PATH=VALUE` overrides (DESIGN.md, "Command line").
+// `--set PATH=VALUE` overrides (docs/guide/SCENE_FORMAT.md, "Overrides").
 
 #include <gtest/gtest.h>
 

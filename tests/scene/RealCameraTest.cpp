@@ -1,7 +1,7 @@
-// Cameras of real photographs in scene and camera files (DESIGN.md, "cameras"): the
-// `distortion` entry is read or refused — never dropped, even in camera files whose other
-// unknown keys are ignored — written back by CameraWriter, and masks are found by the one
-// folder rule of docs/SCENE_FORMAT.md ("Masks") and checked like images.
+// Cameras of real photographs in scene and camera files (docs/guide/SCENE_FORMAT.md, "cameras"):
+// the `distortion` entry is read or refused — never dropped, even in camera files whose other
+// unknown keys are ignored — written back by CameraWriter, and masks are found by the one folder
+// rule of docs/guide/SCENE_FORMAT.md ("Masks") and checked like images.
 
 #include <gtest/gtest.h>
 

@@ -87,7 +87,8 @@ TEST(Transform, ChildOfTranslatedRotatedScaledParent) {
 }
 
 TEST(Transform, RoofInheritsBoxScale) {
-  // DESIGN.md's house: the roof's "rh/h" cancels the box's height so its world height is rh.
+  // The house of docs/guide/SCENE_FORMAT.md: the roof's "rh/h" cancels the box's height so its
+  // world height is rh.
   TempDir dir;
   const Scene s = LoadNodes(dir, R"({"h": {"prior": {"uniform": [0.2, 1.0]}},
                                      "rh": {"prior": {"uniform": [0.05, 0.6]}}})",
