@@ -156,7 +156,8 @@ double ScaleFrom(const InitOptions& o, const ColmapReconstruction& model) {
       if (p.id == id) return p.xyz;
     throw InputError("", "--scale-points", "point " + std::to_string(id) + " is not in the model's points3D");
   };
-  const double distance = (find(o.scale->a) - find(o.scale->b)).norm();
+  const Vec3 a = find(o.scale->a), b = find(o.scale->b);  // in this order: the error names the first missing
+  const double distance = (a - b).norm();
   if (!(distance > 0.0) || !(o.scale->length > 0.0))
     throw InputError("", "--scale-points", "needs two distinct points and a positive length");
   return o.scale->length / distance;

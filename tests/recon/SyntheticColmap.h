@@ -104,7 +104,7 @@ inline SyntheticColmap MakeSyntheticColmap(const std::string& asset, const std::
     if ((truth_points[i] - truth_points[0]).norm() > s.far_metres)
       s.far_b = p.id, s.far_metres = (truth_points[i] - truth_points[0]).norm();
   }
-  s.far_a = s.points[0].id;
+  if (!s.points.empty()) s.far_a = s.points[0].id;
   WriteColmapText(s.sparse, model_cameras, s.images, s.points);
   if (binary) {
     const ColmapReconstruction model = ReadColmapModel(s.sparse, "sparse");
@@ -112,6 +112,15 @@ inline SyntheticColmap MakeSyntheticColmap(const std::string& asset, const std::
     WriteColmapBinary(s.sparse, model);
   }
   return s;
+}
+
+// Replaces the model in s.sparse by `change`(the model), written binary.
+template <typename Change>
+void RewriteColmap(const SyntheticColmap& s, Change change) {
+  ColmapReconstruction model = ReadColmapModel(s.sparse, "sparse");
+  change(model);
+  std::filesystem::remove_all(s.sparse);
+  WriteColmapBinary(s.sparse, model);
 }
 
 }  // namespace vkr::test
