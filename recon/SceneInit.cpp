@@ -103,6 +103,38 @@ double CloudSize(const std::vector<Vec3>& points) {
   return Percentile(d, 0.5);
 }
 
+// The point nearest to the cameras' optical axes (least squares), or none when the axes are
+// near parallel: what the photographs are of.
+std::optional<Vec3> LookedAt(const ColmapReconstruction& model) {
+  Eigen::Matrix3d A = Eigen::Matrix3d::Zero();
+  Vec3 b = Vec3::Zero();
+  for (const ColmapImage& im : model.images) {
+    const Vec3 axis = im.R.row(2).transpose(), centre = -im.R.transpose() * im.t;
+    const Eigen::Matrix3d across = Eigen::Matrix3d::Identity() - axis * axis.transpose();
+    A += across, b += across * centre;
+  }
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(A);
+  if (!(eig.eigenvalues()(0) > 0.05 * eig.eigenvalues()(2))) return std::nullopt;
+  return A.ldlt().solve(b);
+}
+
+// The points above the ground that belong to the object: within 0.6 of the cameras' median
+// distance (along the ground) of the point they look at, so that a building or trees behind it
+// do not set its priors. All of them when the cameras look at no one point.
+std::vector<Vec3> NearTheObject(std::vector<Vec3> above, const ColmapReconstruction& model, const Vec3& normal) {
+  const std::optional<Vec3> at = LookedAt(model);
+  if (!at) return above;
+  const auto along_ground = [&](const Vec3& x) {
+    const Vec3 d = x - *at;
+    return (d - normal.dot(d) * normal).norm();
+  };
+  std::vector<double> distance;
+  for (const ColmapImage& im : model.images) distance.push_back(along_ground(-im.R.transpose() * im.t));
+  const double reach = 0.6 * Percentile(distance, 0.5);
+  std::erase_if(above, [&](const Vec3& x) { return along_ground(x) > reach; });
+  return above;
+}
+
 }  // namespace
 
 namespace {
@@ -276,10 +308,11 @@ InitResult InitScene(const InitOptions& o) {
     if (ground->Height(x) > 3.0 * go.tolerance) above.push_back(x);
     if (std::abs(ground->Height(x)) <= go.tolerance) on.push_back(x);
   }
+  above = NearTheObject(std::move(above), model, ground->normal);
   if (above.size() < kMinAbove)
     throw InputError(Shown(o.sparse), "points3D", std::string("the ") + ToString(o.template_kind) +
         " template does not fit: " + std::to_string(above.size()) + " of " + std::to_string(points.size()) +
-        " points lie above the ground, it needs " + std::to_string(kMinAbove));
+        " points lie above the ground near what the cameras look at, it needs " + std::to_string(kMinAbove));
   SceneFrame f = FrameOnGround(*ground, above);
   f.scale = ScaleFrom(o, model);
   for (Vec3& x : above) x = f.Apply(x);
@@ -332,7 +365,7 @@ std::string InitResult::BriefReport() const {
   std::snprintf(line, sizeof line, metres ? "units: metres (%.6g per model unit, from --scale-points)\n"
                                           : "units: the model's own (scale %.6g: no --scale-points, so not metres)\n", scale);
   out += line;
-  std::snprintf(line, sizeof line, "above the ground: %d points, x %.3g to %.3g, y %.3g to %.3g, z up to %.3g (2nd-98th percentiles)\n",
+  std::snprintf(line, sizeof line, "above the ground, near what the cameras look at: %d points, x %.3g to %.3g, y %.3g to %.3g, z up to %.3g (2nd-98th percentiles)\n",
                 above, lo.x(), hi.x(), lo.y(), hi.y(), hi.z());
   out += line;
   out += "photographs: " + images.string() + (masks ? ", masks: " + masks->string() : ", no masks folder beside them") + "\n";

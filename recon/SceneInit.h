@@ -49,14 +49,14 @@ struct InitResult {
   int images_count = 0;    // registered images
   int points = 0;          // read from points3D
   int ground_inliers = 0;  // on the fitted ground
-  int above = 0;           // above it: what the priors are set by
+  int above = 0;           // above it near what the cameras look at: what sets the priors
   Eigen::Vector3d up = Eigen::Vector3d::UnitZ();  // the ground's normal, model frame
   double up_vs_cameras_deg = 0.0;  // its angle to the cameras' mean up
   double scale = 1.0;              // scene units per model unit
   bool metres = false;             // whether `scale` came from a known length
   // X_scene = scene_from_model · X_model (a similarity: scale · rotation, translation).
   Eigen::Matrix4d scene_from_model = Eigen::Matrix4d::Identity();
-  // Robust box of the points above the ground (2nd to 98th percentiles), scene frame.
+  // Robust box of those points (2nd to 98th percentiles), scene frame.
   Eigen::Vector3d lo = Eigen::Vector3d::Zero(), hi = Eigen::Vector3d::Zero();
   std::filesystem::path images;  // the photographs' folder
   std::optional<std::filesystem::path> masks;  // the masks' folder, when there is one
