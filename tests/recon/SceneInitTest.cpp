@@ -90,6 +90,8 @@ TEST_P(InitOnAsset, GroundCamerasAndPriors) {
   TempDir dir;
   const SyntheticColmap s = MakeSyntheticColmap(c.asset, dir.path(), c.binary, c.seed);
   if (c.background) AddBackground(s);
+  const bool masks = c.seed % 2 == 1;  // COLMAP's project/masks beside project/images
+  if (masks) std::filesystem::create_directories(dir / "masks");
   InitOptions o;
   o.sparse = s.sparse;
   o.output = dir / "scene";
@@ -104,6 +106,9 @@ TEST_P(InitOnAsset, GroundCamerasAndPriors) {
 
   const Scene scene = LoadScene(dir / "scene/scene.json");  // the photographs resolve and fit
   const std::vector<Camera> cameras = scene.Cameras(scene.InitialValues());
+  const std::string scene_json = ReadText(dir / "scene/scene.json");
+  EXPECT_NE(scene_json.find("\"images\": \"../images/\""), std::string::npos) << scene_json;
+  EXPECT_EQ(scene_json.find("\"masks\": \"../masks/\"") != std::string::npos, masks) << scene_json;
   ASSERT_EQ(cameras.size(), s.cameras.size());
   const FreeMotion m = FitFreeMotion(s.cameras, cameras);
   const Eigen::Matrix3d turn = Eigen::AngleAxisd(m.yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
