@@ -6,6 +6,7 @@
 #   fuzz    clang, libFuzzer and llvm-symbolizer for scripts/fuzz.sh (docs/FUZZING.md)
 #   report  headless Chromium for scripts/report_screenshot.sh (docs/REPORT.md)
 #   plots   matplotlib for the figure of bench/peers_report.py (bench/RESULTS.md, "Peers")
+#   colmap  COLMAP for scripts/calibrate.sh, photographs to the sparse model `vkrecon init` reads
 set -euo pipefail
 
 PACKAGES=(
@@ -38,7 +39,8 @@ for group in "$@"; do
     # chromium renders report.html headless: a screenshot, and the page's console errors.
     report) PACKAGES+=(chromium) ;;
     plots) PACKAGES+=(python3-matplotlib) ;;
-    *) echo "bootstrap: unknown package group '$group' (known: fuzz, report, plots)" >&2; exit 2 ;;
+    colmap) PACKAGES+=(colmap) ;;
+    *) echo "bootstrap: unknown package group '$group' (known: fuzz, report, plots, colmap)" >&2; exit 2 ;;
   esac
 done
 
