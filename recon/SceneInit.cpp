@@ -361,6 +361,8 @@ std::string InitResult::BriefReport() const {
   std::snprintf(line, sizeof line, "ground: %d inliers (%.0f%%), its normal %.2f° from the cameras' mean up\n",
                 ground_inliers, 100.0 * ground_inliers / std::max(points, 1), up_vs_cameras_deg);
   out += line;
+  if (up_vs_cameras_deg > 20.0 || ground_inliers < 0.1 * points)
+    out += "warning: a weak ground (few inliers, or far from the cameras' up): check points.ply, or give --up\n";
   out += "frame: z up, ground at z = 0, origin under the centre of the points above it, +x along their footprint's principal axis\n";
   std::snprintf(line, sizeof line, metres ? "units: metres (%.6g per model unit, from --scale-points)\n"
                                           : "units: the model's own (scale %.6g: no --scale-points, so not metres)\n", scale);

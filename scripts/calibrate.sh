@@ -47,7 +47,9 @@ step() {
 }
 step "1/3 features (SIFT on the CPU)" colmap feature_extractor "${extract[@]}"
 step "2/3 matching (exhaustive)" colmap exhaustive_matcher --database_path "$sparse/database.db" --SiftMatching.use_gpu 0
-step "3/3 mapping" colmap mapper --database_path "$sparse/database.db" --image_path "$photos" --output_path "$sparse"
+# A model of a few photographs is kept: mapper drops those under 10 images by default.
+step "3/3 mapping" colmap mapper --database_path "$sparse/database.db" --image_path "$photos" --output_path "$sparse" \
+  --Mapper.min_model_size 3
 
 if [ ! -f "$sparse/0/cameras.bin" ]; then
   echo "calibrate: COLMAP registered no model (too few matches between the photographs? see $log)" >&2
