@@ -63,6 +63,10 @@ struct AssetCase {
   bool background = false;  // a building and trees behind the object, as real photographs have
 };
 
+void PrintTo(const AssetCase& c, std::ostream* os) {
+  *os << c.asset << (c.binary ? " binary" : " text") << " seed " << c.seed << (c.background ? " background" : "");
+}
+
 // 400 points on a wall 8 m wide and 3 m tall 9 m from the object and on three trees 2–3 m tall.
 void AddBackground(const SyntheticColmap& s) {
   RewriteColmap(s, [&](ColmapReconstruction& m) {
