@@ -17,6 +17,7 @@ struct Subcommand {
 };
 
 constexpr Subcommand kSubcommands[] = {
+    {"init", vkr::app::RunInit, "a COLMAP sparse model to a Z-up scene folder with a starter scene"},
     {"run", vkr::app::RunRun, "reconstruct: sample the parameters against the photographs"},
     {"fit", vkr::app::RunFit, "MAP only: search the parameters' mode with an NLopt method (no intervals)"},
     {"report", vkr::app::RunReport, "write a run's report.html again from its output folder"},

@@ -7,6 +7,7 @@
 #   report  headless Chromium for scripts/report_screenshot.sh (docs/guide/REPORT.md)
 #   plots   matplotlib for the figure of bench/peers_report.py (bench/RESULTS.md, "Peers")
 #   python  pybind11, numpy and pytest for `import vkrecon` and its tests (docs/guide/PYTHON.md)
+#   colmap  COLMAP for scripts/calibrate.sh, photographs to the sparse model `vkrecon init` reads
 set -euo pipefail
 
 PACKAGES=(
@@ -41,7 +42,8 @@ for group in "$@"; do
     plots) PACKAGES+=(python3-matplotlib) ;;
     # pybind11 and Debian's python3 build `import vkrecon` (python/); numpy and pytest run it
     python) PACKAGES+=(pybind11-dev python3-dev python3-numpy python3-pytest) ;;
-    *) echo "bootstrap: unknown package group '$group' (known: fuzz, report, plots, python)" >&2; exit 2 ;;
+    colmap) PACKAGES+=(colmap) ;;
+    *) echo "bootstrap: unknown package group '$group' (known: fuzz, report, plots, python, colmap)" >&2; exit 2 ;;
   esac
 done
 

@@ -8,37 +8,12 @@
 #include <sstream>
 
 #include "engine/common/InputError.h"
+#include "engine/scene/ColmapCameraModels.h"
 
 namespace vkr {
 namespace {
 
-struct Intrinsics {
-  int width = 0, height = 0;
-  double fx = 0, fy = 0, cx = 0, cy = 0;
-  LensDistortion distortion;
-};
-
-// A COLMAP model vkrecon reads: its name, whether it has one focal length (f) or two
-// (fx fy), and its distortion model (None for the pinholes).
-struct ColmapModel {
-  const char* name;
-  bool single_focal;
-  DistortionModel distortion;
-};
-constexpr ColmapModel kColmapModels[] = {
-    {"SIMPLE_PINHOLE", true, DistortionModel::None},
-    {"PINHOLE", false, DistortionModel::None},
-    {"SIMPLE_RADIAL", true, DistortionModel::SimpleRadial},
-    {"RADIAL", true, DistortionModel::Radial},
-    {"OPENCV", false, DistortionModel::OpenCV},
-    {"FULL_OPENCV", false, DistortionModel::FullOpenCV},
-};
-
-std::string ColmapModelList() {
-  std::string list;
-  for (const ColmapModel& m : kColmapModels) list += (list.empty() ? "" : ", ") + std::string(m.name);
-  return list;
-}
+using colmap_detail::ColmapIntrinsics;
 
 // Numbered lines of a text file, trimmed, with CR stripped (files written on Windows).
 struct TextFile {
@@ -74,38 +49,24 @@ bool IsPointsLine(const std::string& line) {
   return s.eof() && count % 3 == 0;
 }
 
-std::map<long long, Intrinsics> ReadCameras(const TextFile& f) {
-  std::map<long long, Intrinsics> cameras;
+std::map<long long, ColmapIntrinsics> ReadCameras(const TextFile& f) {
+  std::map<long long, ColmapIntrinsics> cameras;
   for (size_t i = 0; i < f.lines.size(); ++i) {
     if (TextFile::Skipped(f.lines[i])) continue;
     std::istringstream s = Stream(f.lines[i]);
     long long id = 0;
     std::string model;
-    Intrinsics c;
+    ColmapIntrinsics c;
     if (!(s >> id >> model >> c.width >> c.height))
       f.Fail(i, "expected CAMERA_ID MODEL WIDTH HEIGHT PARAMS[]");
     std::vector<double> params;
     for (double v; s >> v;) params.push_back(v);
     if (!s.eof()) f.Fail(i, "camera parameters must be numbers");
-    const ColmapModel* known = nullptr;
-    for (const ColmapModel& m : kColmapModels)
+    const colmap_detail::ColmapCameraModel* known = nullptr;
+    for (const auto& m : colmap_detail::kColmapCameraModels)
       if (model == m.name) known = &m;
-    if (!known) f.Fail(i, "camera model " + model + " is not supported (supported: " + ColmapModelList() + ")");
-    const size_t focals = known->single_focal ? 1 : 2;
-    const size_t expected = focals + 2 + CoefficientNames(known->distortion).size();
-    if (params.size() != expected)
-      f.Fail(i, model + " needs " + std::to_string(expected) + " parameters, not " +
-                    std::to_string(params.size()));
-    for (double v : params)
-      if (!std::isfinite(v)) f.Fail(i, "camera parameters must be finite");
-    c.fx = params[0];
-    c.fy = params[focals - 1];
-    c.cx = params[focals];
-    c.cy = params[focals + 1];
-    c.distortion.model = known->distortion;
-    for (size_t k = focals + 2; k < params.size(); ++k) c.distortion.coefficients[k - focals - 2] = params[k];
-    if (c.width <= 0 || c.height <= 0 || !(c.fx > 0) || !(c.fy > 0))
-      f.Fail(i, "camera size and focal length must be positive");
+    const std::string problem = colmap_detail::SetColmapIntrinsics(known, model, params, c);
+    if (!problem.empty()) f.Fail(i, problem);
     if (!cameras.emplace(id, c).second) f.Fail(i, "camera " + std::to_string(id) + " defined twice");
   }
   return cameras;
@@ -118,7 +79,7 @@ std::vector<ColmapImage> ReadColmapText(const std::filesystem::path& dir,
   const auto shown = [&](const char* name) {
     return (std::filesystem::path(display_dir) / name).lexically_normal().string();
   };
-  const std::map<long long, Intrinsics> cameras =
+  const std::map<long long, ColmapIntrinsics> cameras =
       ReadCameras(TextFile(dir / "cameras.txt", shown("cameras.txt")));
   const TextFile f(dir / "images.txt", shown("images.txt"));
   std::vector<ColmapImage> images;
@@ -136,23 +97,47 @@ std::vector<ColmapImage> ReadColmapText(const std::filesystem::path& dir,
     if (camera == cameras.end())
       f.Fail(i, "camera " + std::to_string(camera_id) + " is not in cameras.txt");
     // The quaternion (QW, QX, QY, QZ) rotates world into camera: R = cam_from_world.
-    const Eigen::Quaterniond quat(q[0], q[1], q[2], q[3]);
-    if (!(quat.norm() > 1e-12)) f.Fail(i, "zero quaternion");
-    ColmapImage im;
-    im.name = std::filesystem::path(name).stem().string();
-    im.image = name;
-    const Intrinsics& c = camera->second;
-    im.width = c.width, im.height = c.height;
-    im.fx = c.fx, im.fy = c.fy, im.cx = c.cx, im.cy = c.cy;
-    im.distortion = c.distortion;
-    im.R = quat.normalized().toRotationMatrix();
-    im.t = Eigen::Vector3d(t[0], t[1], t[2]);
+    std::string problem;
+    ColmapImage im = colmap_detail::MakeColmapImage(name, camera->second, q, t, &problem);
+    if (!problem.empty()) f.Fail(i, problem);
     images.push_back(std::move(im));
     // Each image line is followed by its 2D points (possibly an empty line). Hand-written
     // models often leave that line out, so it is consumed only if it looks like points.
     if (i + 1 < f.lines.size() && IsPointsLine(f.lines[i + 1])) ++i;
   }
   return images;
+}
+
+std::vector<ColmapPoint> ReadColmapPointsText(const std::filesystem::path& file,
+                                              const std::string& display) {
+  const TextFile f(file, display);
+  std::vector<ColmapPoint> points;
+  for (size_t i = 0; i < f.lines.size(); ++i) {
+    if (TextFile::Skipped(f.lines[i])) continue;
+    std::istringstream s = Stream(f.lines[i]);
+    ColmapPoint p;
+    int rgb[3];
+    if (!(s >> p.id >> p.xyz.x() >> p.xyz.y() >> p.xyz.z() >> rgb[0] >> rgb[1] >> rgb[2] >> p.error))
+      f.Fail(i, "expected POINT3D_ID X Y Z R G B ERROR TRACK[]");
+    if (!p.xyz.allFinite()) f.Fail(i, "point coordinates must be finite");
+    for (int c = 0; c < 3; ++c) {
+      if (rgb[c] < 0 || rgb[c] > 255) f.Fail(i, "colours are 0 to 255");
+      p.rgb[c] = std::uint8_t(rgb[c]);
+    }
+    for (std::uint32_t image, index; s >> image >> index;) p.track.emplace_back(image, index);
+    if (!s.eof()) f.Fail(i, "TRACK[] must be (IMAGE_ID, POINT2D_IDX) pairs of whole numbers");
+    points.push_back(std::move(p));
+  }
+  return points;
+}
+
+ColmapReconstruction ReadColmapModel(const std::filesystem::path& dir, const std::string& display_dir) {
+  if (std::filesystem::exists(dir / "cameras.bin")) return ReadColmapBinary(dir, display_dir);
+  ColmapReconstruction model;
+  model.images = ReadColmapText(dir, display_dir);
+  model.points = ReadColmapPointsText(
+      dir / "points3D.txt", (std::filesystem::path(display_dir) / "points3D.txt").lexically_normal().string());
+  return model;
 }
 
 }  // namespace vkr

@@ -52,7 +52,8 @@ void WriteFile(const std::filesystem::path& file, const std::string& text) {
 }  // namespace
 
 void WriteColmapText(const std::filesystem::path& dir, const std::vector<Camera>& cameras,
-                     const std::filesystem::path& images_dir) {
+                     const std::filesystem::path& images_dir,
+                     const std::vector<ColmapPoint>& points) {
   std::filesystem::create_directories(dir);
   std::string cameras_txt =
       "# Camera list with one line of data per camera:\n"
@@ -80,7 +81,18 @@ void WriteColmapText(const std::filesystem::path& dir, const std::vector<Camera>
   }
   WriteFile(dir / "cameras.txt", cameras_txt);
   WriteFile(dir / "images.txt", images_txt);
-  WriteFile(dir / "points3D.txt", "# 3D point list (none: written by vkrecon synth)\n");
+  std::string points_txt =
+      "# 3D point list with one line of data per point:\n"
+      "#   POINT3D_ID, X, Y, Z, R, G, B, ERROR, TRACK[] as (IMAGE_ID, POINT2D_IDX)\n"
+      "# Number of points: " + std::to_string(points.size()) + "\n";
+  for (const ColmapPoint& p : points) {
+    points_txt += std::to_string(p.id) + " " + Full(p.xyz.x()) + " " + Full(p.xyz.y()) + " " + Full(p.xyz.z());
+    for (std::uint8_t c : p.rgb) points_txt += " " + std::to_string(int(c));
+    points_txt += " " + Full(p.error);
+    for (const auto& [image, index] : p.track) points_txt += " " + std::to_string(image) + " " + std::to_string(index);
+    points_txt += "\n";
+  }
+  WriteFile(dir / "points3D.txt", points_txt);
 }
 
 }  // namespace vkr

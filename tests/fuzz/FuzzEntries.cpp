@@ -149,6 +149,41 @@ Outcome Colmap(Bytes input) {
   return Guard([&] { ReadColmapText(dir, "sparse"); });
 }
 
+// A valid binary model of one PINHOLE camera, one image "a.png" and one point, so that the
+// fuzzed file is read past the files before it.
+std::string ValidColmapBinary(int file) {
+  const auto put = [](std::string& out, const auto& value) {
+    out.append(reinterpret_cast<const char*>(&value), sizeof value);
+  };
+  std::string bytes;
+  put(bytes, uint64_t(1));
+  if (file == 0) {
+    put(bytes, uint32_t(1)), put(bytes, int32_t(1)), put(bytes, uint64_t(4)), put(bytes, uint64_t(3));
+    for (double v : {2.0, 2.0, 2.0, 1.5}) put(bytes, v);
+  } else if (file == 1) {
+    put(bytes, uint32_t(1));
+    for (double v : {1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 5.0}) put(bytes, v);
+    put(bytes, uint32_t(1));
+    bytes.append("a.png", 6);
+    put(bytes, uint64_t(0));
+  } else {
+    put(bytes, uint64_t(7));
+    for (double v : {0.0, 0.0, 1.0}) put(bytes, v);
+    bytes.append("\x01\x02\x03", 3);
+    put(bytes, 0.5), put(bytes, uint64_t(1)), put(bytes, uint32_t(1)), put(bytes, uint32_t(0));
+  }
+  return bytes;
+}
+
+Outcome ColmapBinary(Bytes input) {
+  const fs::path dir = ScratchDir() / "sparse_bin";
+  const int fuzzed = input.empty() ? 0 : input[0] % 3;
+  const char* names[] = {"cameras.bin", "images.bin", "points3D.bin"};
+  for (int file = 0; file < 3; ++file)
+    Write(dir / names[file], file == fuzzed ? Text(input.subspan(input.empty() ? 0 : 1)) : ValidColmapBinary(file));
+  return Guard([&] { ReadColmapBinary(dir, "sparse"); });
+}
+
 Outcome Image(Bytes input) {
   const fs::path file = ScratchDir() / "image";
   Write(file, Text(input));
@@ -205,7 +240,7 @@ std::span<const Entry> Entries() {
   static constexpr Entry kEntries[] = {
       {"scene_json", &SceneJson}, {"at_values", &AtValues}, {"camera_file", &CameraFile},
       {"colmap", &Colmap},        {"image", &Image},        {"gltf", &Gltf},
-      {"checkpoint", &Checkpoint},
+      {"checkpoint", &Checkpoint}, {"colmap_binary", &ColmapBinary},
   };
   return kEntries;
 }

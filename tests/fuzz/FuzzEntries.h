@@ -32,6 +32,9 @@ Outcome AtValues(Bytes input);
 Outcome CameraFile(Bytes input);
 // A COLMAP text model: cameras.txt, a NUL byte, images.txt.
 Outcome Colmap(Bytes input);
+// A COLMAP binary model: the first byte picks the file the rest is (0: cameras.bin, 1:
+// images.bin, 2: points3D.bin, modulo 3); the other two are a fixed valid model's.
+Outcome ColmapBinary(Bytes input);
 // An image file of any format (sniffed): ReadImageSize, then LoadImage.
 Outcome Image(Bytes input);
 // A glTF mesh: .glb when it starts with the binary magic "glTF", .gltf otherwise.

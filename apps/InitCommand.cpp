@@ -1,0 +1,65 @@
+// `vkrecon init SPARSE -o SCENE`: parses the options and calls recon::InitScene.
+
+#include <iostream>
+#include <locale>
+#include <sstream>
+
+#include "apps/Commands.h"
+#include "engine/common/InputError.h"
+#include "recon/SceneInit.h"
+
+namespace vkr::app {
+namespace {
+
+Eigen::Vector3d ParseUp(const std::string& text) {
+  std::istringstream in(text);
+  in.imbue(std::locale::classic());
+  Eigen::Vector3d up;
+  char c1 = 0, c2 = 0;
+  if (!(in >> up.x() >> c1 >> up.y() >> c2 >> up.z()) || c1 != ',' || c2 != ',' || !(in >> std::ws).eof())
+    throw InputError("", "--up", "expected X,Y,Z (a direction in the COLMAP model's frame), not '" + text + "'");
+  return up;
+}
+
+}  // namespace
+
+int RunInit(int argc, char** argv) {
+  CLI::App app(
+      "Make a scene folder from a COLMAP sparse model (binary or text: cameras, images, points3D). Finds the "
+      "ground, a plane through the triangulated points near the cameras' mean up direction (or --up), and "
+      "writes SCENE/cameras.json in a Z-up frame: the ground at z = 0, the origin under the centre of the "
+      "points above it, +x along their footprint's principal axis. Lengths stay in COLMAP's arbitrary units "
+      "unless --scale-points gives one known length. Also writes SCENE/points.ply (the points in that frame), "
+      "a starter SCENE/scene.json from --template whose priors bracket the points above the ground, with "
+      "\"images\" (and \"masks\", when the photographs have a masks/ folder beside them) wired, and "
+      "SCENE/init.json (the settings and the transform). Bad input (no points, one image, no ground, a "
+      "template the points do not fit, a photograph missing) exits 2 with one line. docs/REAL_PHOTOS.md.",
+      "init");
+  recon::InitOptions options;
+  std::string sparse, output, images, template_name = "box", up, scale_points;
+  app.add_option("sparse", sparse, "the COLMAP model's folder, e.g. project/sparse/0")->required();
+  app.add_option("-o,--output", output, "the scene folder to write (it must not hold a scene.json)")->required();
+  app.add_option("--images", images,
+                 "the photographs the model's image names are relative to (default: SPARSE/../images, or "
+                 "SPARSE/../../images for project/sparse/0)");
+  app.add_option("--template", template_name, "the starter scene: box (x y yaw w d h) or house (walls and a roof: + rh)")
+      ->capture_default_str();
+  app.add_option("--up", up, "X,Y,Z: up in the model's frame, instead of the cameras' mean up (COLMAP: -y of the images)");
+  app.add_option("--scale-points", scale_points,
+                 "ID1,ID2=LENGTH: two POINT3D_IDs (as in points3D, see points.ply's order) and their distance in "
+                 "metres; without it the scene keeps the model's units");
+  app.add_option("--seed", options.seed, "the ground's RANSAC seed")->capture_default_str();
+  if (auto status = Parse(app, argc, argv)) return *status;
+  options.sparse = sparse;
+  options.output = output;
+  options.images = images;
+  if (!recon::FromString(template_name, &options.template_kind))
+    throw InputError("", "--template", "unknown template '" + template_name + "' (box, house)");
+  if (!up.empty()) options.up = ParseUp(up);
+  if (!scale_points.empty()) options.scale = recon::ParseScalePoints(scale_points);
+  const recon::InitResult result = recon::InitScene(options);
+  std::cout << result.BriefReport();
+  return 0;
+}
+
+}  // namespace vkr::app
