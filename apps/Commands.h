@@ -1,6 +1,6 @@
 #pragma once
 // The subcommands of `vkrecon`. Each Run* parses its own arguments and calls a typed library
-// function; exit codes follow DESIGN.md: 0 success, 2 bad input, 1 anything else.
+// function; exit codes (docs/reference/CLI.md): 0 success, 2 bad input, 1 anything else.
 
 #include <CLI/CLI.hpp>
 

@@ -33,7 +33,7 @@ int RunInit(int argc, char** argv) {
       "a starter SCENE/scene.json from --template whose priors bracket the points above the ground, with "
       "\"images\" (and \"masks\", when the photographs have a masks/ folder beside them) wired, and "
       "SCENE/init.json (the settings and the transform). Bad input (no points, one image, no ground, a "
-      "template the points do not fit, a photograph missing) exits 2 with one line. docs/REAL_PHOTOS.md.",
+      "template the points do not fit, a photograph missing) exits 2 with one line. docs/guide/REAL_PHOTOS.md.",
       "init");
   recon::InitOptions options;
   std::string sparse, output, images, template_name = "box", up, scale_points;

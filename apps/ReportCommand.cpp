@@ -14,7 +14,7 @@ int RunReport(int argc, char** argv) {
       "(Chart.js), each camera's photograph with the fitted wireframe, reprojection and residuals, the "
       "texture and a 3D view of the model (three.js). The libraries are read from Debian's libjs-chart.js "
       "and libjs-three (VKRECON_JAVASCRIPT_DIR, default /usr/share/javascript); without them the page keeps "
-      "its tables and images and says what it left out. docs/REPORT.md.",
+      "its tables and images and says what it left out. docs/guide/REPORT.md.",
       "report");
   report::ReportOptions options;
   std::string out, truth;

@@ -94,7 +94,7 @@ int RunRun(int argc, char** argv) {
     std::signal(SIGINT, [](int) { recon::RequestStop(); });
     return FinishRun(options, scene.scene, out, recon::Reconstruct(options, *device), *device);
   }
-  // One of several MPI ranks (docs/SCALE_OUT.md). A rank that fails must end the whole job:
+  // One of several MPI ranks (docs/guide/SCALE_OUT.md). A rank that fails must end the whole job:
   // the others would wait for it forever in the next exchange.
   const std::string resume = "mpirun -n " + std::to_string(ranks.size()) + " vkrecon run " + scene.scene + " -o " + out + " --resume";
   try {
@@ -140,7 +140,7 @@ int ExitStatus(ListedOutcome o) {
   return o == ListedOutcome::Ok || o == ListedOutcome::NotOk ? 0 : 1;
 }
 
-// Many scenes (docs/SCALE_OUT.md, "Many scenes"): scene i runs on rank i mod R as a process
+// Many scenes (docs/guide/SCALE_OUT.md, "Many scenes"): scene i runs on rank i mod R as a process
 // of its own, into OUT/<name>; rank 0 gathers how each ended and prints the table (also
 // OUT/summary.csv). A scene that fails does not stop the others; the exit status is the
 // worst of theirs.

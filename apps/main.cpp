@@ -1,5 +1,5 @@
 // vkrecon: reconstruct 3D geometry from calibrated photographs by inverse rendering.
-// One binary, a table of subcommands (DESIGN.md, "Command line").
+// One binary, a table of subcommands (docs/reference/CLI.md).
 
 #include <cstring>
 #include <iostream>

@@ -18,7 +18,7 @@ constexpr double kImplausibleRms = 48.0;
 // Where noise alone leaves residuals. Under the noise model a view is an outlier (e² > K,
 // 3 sds in every channel) about once in 10⁵; edges, resampling and anti-aliasing of
 // correctly placed surface make it 0.5–3 % on the bundled assets at their truth
-// (docs/LIKELIHOOD.md, "Diagnosis"). A node or photograph beyond these disagrees.
+// (docs/internals/LIKELIHOOD.md, "Diagnosis"). A node or photograph beyond these disagrees.
 constexpr double kOutlierShare = 0.08;     // of a node's view samples
 constexpr double kNodeChi2PerDof = 1.6;    // a node's χ² against what noise alone gives
 constexpr double kMinNodeShare = 0.01;     // nodes with fewer compared texels are not judged
@@ -100,7 +100,7 @@ Diagnosis Diagnose(const Scene& scene, const Evaluation& at_map, double sigma_25
     // A photograph disagrees where it shows regions the scene lacks (its clutter mask). The
     // share of its pixels beyond 3 robust sds is reported, not judged: the model textured
     // with the atlas lacks the photograph's finest detail, which makes the tails heavy
-    // (about 10 % even where the fit is exact: crate_clutter, docs/LIKELIHOOD.md).
+    // (about 10 % even where the fit is exact: crate_clutter, docs/internals/LIKELIHOOD.md).
     const bool bad = clutter > kClutterShare;
     camera_json.push_back({{"camera", r.camera}, {"rms_255", r.rms_255}, {"pixels", r.pixels},
                            {"outlier_share", r.outlier_share}, {"clutter_share", clutter},
@@ -179,12 +179,12 @@ Diagnosis Diagnose(const Scene& scene, const Evaluation& at_map, double sigma_25
   if (!model.empty()) {
     Worsen(&d, Diagnosis::Verdict::ModelError);
     // κ over blocks of a fixed size (8×8 above all) measures the noise, not a bias that what
-    // the scene leaves out gives the mode (docs/LIKELIHOOD.md, "Honest intervals"): say so,
+    // the scene leaves out gives the mode (docs/internals/LIKELIHOOD.md, "Honest intervals"): say so,
     // and what widens them.
     if (scene.likelihood.sandwich_blocks != 0)
       model.push_back("the intervals allow for the photographs' noise, not for what the scene leaves out, which can "
                       "move the MAP beyond them: model it, or set likelihood.sandwich_blocks to \"auto\" for "
-                      "intervals that err wide (docs/LIKELIHOOD.md, \"Honest intervals\")");
+                      "intervals that err wide (docs/internals/LIKELIHOOD.md, \"Honest intervals\")");
   }
   if (!failed.empty()) Worsen(&d, Diagnosis::Verdict::Failed);
   for (const auto* list : {&failed, &model, &other}) d.notes.insert(d.notes.end(), list->begin(), list->end());

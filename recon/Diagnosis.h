@@ -1,5 +1,5 @@
 #pragma once
-// What the numbers at the MAP say about a reconstruction (docs/LIKELIHOOD.md, "Diagnosis").
+// What the numbers at the MAP say about a reconstruction (docs/internals/LIKELIHOOD.md, "Diagnosis").
 // A fit is called ok only on positive evidence: its residuals look like noise on every node
 // and in every photograph, and the chains agree. Otherwise the diagnosis says which nodes or
 // photographs disagree and by how much (model error: the scene leaves something out, or is

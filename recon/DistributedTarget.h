@@ -1,5 +1,5 @@
 #pragma once
-// A target spread over the run's ranks (docs/SCALE_OUT.md): every rank holds the same
+// A target spread over the run's ranks (docs/guide/SCALE_OUT.md): every rank holds the same
 // sampler, so every rank asks for the same batch; each scores only its contiguous slice of
 // it on its own device, and one MPI_Allgatherv gives every rank all the values, so all
 // samplers advance identically and replica exchange needs no message of its own. With one

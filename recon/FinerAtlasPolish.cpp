@@ -157,7 +157,7 @@ std::string FinerAtlasNote(const FinerAtlasPolish& polish, const opt::SamplerSum
                 "the MAP depends on the atlas's resolution: polished at a %d² atlas it moved %.1f posterior sds "
                 "(%s %.4g against %.4g at the run's atlas), so the intervals, sampled at the run's atlas and "
                 "moved with the MAP, may not describe the likelihood there; run again with --set "
-                "likelihood.atlas=%d (docs/LIKELIHOOD.md, \"The finer atlas\")",
+                "likelihood.atlas=%d (docs/internals/LIKELIHOOD.md, \"The finer atlas\")",
                 polish.atlas, polish.MaxShiftSd(), summary.parameters[w].name.c_str(), polish.map[w],
                 polish.map_at_atlas[w], polish.atlas);
   return buf;

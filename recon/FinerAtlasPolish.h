@@ -1,5 +1,5 @@
 #pragma once
-// The MAP polished on the likelihood at twice the atlas's side (docs/LIKELIHOOD.md, "The
+// The MAP polished on the likelihood at twice the atlas's side (docs/internals/LIKELIHOOD.md, "The
 // finer atlas").
 //
 // The surface likelihood compares the photographs through an atlas of a fixed size. Where a
@@ -34,7 +34,7 @@ namespace vkr::recon {
 
 // How far (posterior sds, any parameter) the MAP may move before the diagnosis says the
 // intervals do not describe it. On the bundled assets the move was at most 1.19 sds (house
-// at σ 16), on Merton at 512² 1.42 (docs/LIKELIHOOD.md, "The finer atlas").
+// at σ 16), on Merton at 512² 1.42 (docs/internals/LIKELIHOOD.md, "The finer atlas").
 inline constexpr double kFinerAtlasShiftSd = 2.0;
 
 // The largest atlas side polished at (twice the run's): above it the evaluations would cost
@@ -72,7 +72,7 @@ FinerAtlasPolish PolishAtFinerAtlas(vk::Device& device, const Scene& scene, std:
 // puts off the finer one's; their spread is the noise's, which the finer atlas keeps (κ
 // scaled with the texels). So the posterior at the finer atlas is taken as theirs, moved:
 // without it the MAP could lie outside its own interval (house_annex, stairs at σ 32:
-// docs/LIKELIHOOD.md, "The finer atlas"). Nothing when the polish did not run.
+// docs/internals/LIKELIHOOD.md, "The finer atlas"). Nothing when the polish did not run.
 void AdoptPolishedMap(const FinerAtlasPolish& polish, const Scene& scene, opt::SamplerSummary* summary);
 
 nlohmann::json ToJson(const FinerAtlasPolish& polish, const opt::SamplerSummary& summary);

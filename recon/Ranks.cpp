@@ -55,7 +55,7 @@ Ranks::Ranks(bool join) {
     joined_ = true;
   }
   // A rank that fails ends the job (the default, said here because the design relies on
-  // it: no rank may wait forever on one that died; docs/SCALE_OUT.md, "Faults").
+  // it: no rank may wait forever on one that died; docs/guide/SCALE_OUT.md, "Faults").
   MPI_Comm_set_errhandler(MPI_COMM_WORLD, MPI_ERRORS_ARE_FATAL);
   MPI_Comm_rank(MPI_COMM_WORLD, &rank_);
   MPI_Comm_size(MPI_COMM_WORLD, &size_);

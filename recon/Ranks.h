@@ -1,5 +1,5 @@
 #pragma once
-// The processes of one run (docs/SCALE_OUT.md): under `mpirun -n R` (or `srun`) in a build
+// The processes of one run (docs/guide/SCALE_OUT.md): under `mpirun -n R` (or `srun`) in a build
 // with MPI, R ranks of MPI_COMM_WORLD; otherwise one rank and no MPI at all, so a build
 // without MPI, or a run started without a launcher, behaves exactly as a single process.
 // This and Ranks.cpp are the only place that knows MPI exists (the VKRECON_HAVE_MPI seam).

@@ -169,7 +169,7 @@ opt::MapSearchSummary StartFromJson(const nlohmann::json& j) {
 
 // What every stage of one run shares. Under MPI every rank runs the same stages with the same
 // sampler; rank 0 alone writes (checkpoints, clutter masks, outputs) and talks
-// (docs/SCALE_OUT.md).
+// (docs/guide/SCALE_OUT.md).
 struct RunContext {
   RunContext(const ReconstructOptions& options, vk::Device& device)
       : options(options),
@@ -593,7 +593,7 @@ void WriteOutputs(const RunContext& run, const opt::Sampler& sampler, const opt:
   // outputs shows none, and its checkpoint writes them all again on --resume.
   result->map_json = run.options.output_dir / "map.json";
   WriteAtomically(result->map_json, map.dump(2) + "\n");
-  // overlays/, report.html (docs/REPORT.md)
+  // overlays/, report.html (docs/guide/REPORT.md)
   report::WriteRunReport(run.options.output_dir, run.scene, model.geometry, summary->map);
   if (!run.quiet) std::cerr << summary->BriefReport() << "\n";
 }

@@ -1,6 +1,6 @@
 #pragma once
 // `vkrecon run`: photographs and a scene description in; a reconstructed, textured,
-// parametric model with honest uncertainty out (DESIGN.md, "The optimiser"). This is the one
+// parametric model with honest uncertainty out (docs/internals/SAMPLER.md). This is the one
 // place where the sampler (optimiser/, no Vulkan) meets the likelihood (pipelines/).
 
 #include <filesystem>

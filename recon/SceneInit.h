@@ -1,6 +1,6 @@
 #pragma once
 // `vkrecon init`: a COLMAP sparse model → a scene folder in a Z-up frame with a starter scene
-// (docs/REAL_PHOTOS.md). The ground is a plane fitted to the triangulated points (GroundPlane.h)
+// (docs/guide/REAL_PHOTOS.md). The ground is a plane fitted to the triangulated points (GroundPlane.h)
 // and put at z = 0, the origin under the robust centre of the points above it, +x along the
 // principal axis of their footprint; the cameras, the points and a template's priors follow.
 

@@ -1,5 +1,5 @@
 #pragma once
-// `vkrecon run LIST -o OUT` (docs/SCALE_OUT.md, "Many scenes"): the scenes of a folder (each
+// `vkrecon run LIST -o OUT` (docs/guide/SCALE_OUT.md, "Many scenes"): the scenes of a folder (each
 // immediate subfolder holding a scene.json, by name) or of a list file (one scene file or
 // scene folder per line, relative to the list; blank lines and `#` comments skipped). Each
 // scene gets OUT/<name>: its folder's name (for a folder or a file named scene.json), else its

@@ -310,7 +310,7 @@ ReportResult WritePage(const ReportOptions& options) {
     << "</title>\n<script>\n" << kErrorHookJs << "</script>\n<style>\n" << kPageCss << "</style>\n</head><body>\n"
     << "<h1>vkrecon report</h1>\n<p class=\"meta\">scene " << Html(settings.value("scene", std::string("?")))
     << "; device " << Html(settings.value("device", std::string("?"))) << "; built from the files in this folder by "
-    << "<code>vkrecon report</code> (docs/REPORT.md).</p>\n<ul id=\"report-errors\"></ul>\n";
+    << "<code>vkrecon report</code> (docs/guide/REPORT.md).</p>\n<ul id=\"report-errors\"></ul>\n";
   if (!result.left_out.empty() || (has_model && !model_fits) || !scene) {
     h << "<div class=\"leftout\"><p>Left out of this page:</p><ul>";
     for (const std::string& l : result.left_out) h << "<li>" << Html(l) << "</li>";

@@ -1,10 +1,10 @@
 #pragma once
-// OUT/report.html: one self-contained page that shows a run (issue 14) — the parameter
+// OUT/report.html: one self-contained page that shows a run (docs/guide/REPORT.md) — the parameter
 // table with its warnings, the calibration and diagnosis, the sampler's traces, marginals,
 // most correlated pair, acceptance and temperatures (Chart.js), per camera the photograph
 // with the fitted wireframe, the reprojection and the residuals, the composite texture and
 // a 3D view of model.glb (three.js). Built from the files in OUT alone, so `vkrecon report`
-// rebuilds it byte for byte. docs/REPORT.md describes the page and why it is built so.
+// rebuilds it byte for byte. docs/guide/REPORT.md describes the page and why it is built so.
 
 #include <filesystem>
 #include <string>

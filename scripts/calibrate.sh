@@ -1,12 +1,12 @@
 #!/usr/bin/env bash
 # Calibrates a folder of photographs with Debian's COLMAP on the CPU (no CUDA needed), for
-# `vkrecon init` (docs/REAL_PHOTOS.md):
+# `vkrecon init` (docs/guide/REAL_PHOTOS.md):
 #   scripts/calibrate.sh PHOTOS/ SPARSE/   →   SPARSE/database.db, SPARSE/0/{cameras,images,points3D}.bin
 # SIFT features (no GPU), exhaustive matching (fine for the tens of photographs of one object),
 # then incremental mapping. One camera for all photographs unless VKRECON_COLMAP_CAMERAS=per_image;
 # the model is SIMPLE_RADIAL unless VKRECON_COLMAP_MODEL names another that vkrecon reads
 # (PINHOLE, SIMPLE_PINHOLE, RADIAL, OPENCV, FULL_OPENCV). A masks/ folder beside PHOTOS
-# (COLMAP's project layout, docs/SCENE_FORMAT.md "Masks") keeps masked pixels out of the features.
+# (COLMAP's project layout, docs/guide/SCENE_FORMAT.md "Masks") keeps masked pixels out of the features.
 # Exit status: 0 done, 2 bad input or COLMAP missing (one line), 1 COLMAP failed.
 set -euo pipefail
 

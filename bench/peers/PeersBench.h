@@ -1,5 +1,5 @@
 #pragma once
-// `vkrecon bench --only peers` (issue 15, "Peer comparison"): how fast and how well
+// `vkrecon bench --only peers` (bench/RESULTS.md, "Peers"): how fast and how well
 // `vkrecon run` finds the MAP against NLopt's methods (`vkrecon fit`) on the same likelihood.
 // Per bundled asset and noise seed it synthesises reference images at σ = 16 as
 // scripts/noise_study.py does (the asset's own settings, its synth.json if it has one), then
@@ -7,7 +7,7 @@
 // level-l evaluation counts 4^-l) and wall time until the running MAP has every parameter
 // within `tolerance` of its prior width of the truth, and the final MAP's errors.
 // A room of its own beside bench/harness/: it drives `run` and `fit` (recon/), which the
-// harness, below them, may not include (docs/OVERVIEW.md).
+// harness, below them, may not include (docs/internals/OVERVIEW.md).
 
 #include <filesystem>
 #include <functional>
@@ -47,7 +47,7 @@ struct PeersOptions {
   bool quick = false;
   // Keep the (asset, seed) groups already in work_dir/peers.json, written with the same
   // settings, and run only the rest: a 45-minute bench cut short (lavapipe's rare crash,
-  // docs/HARDENING.md; a closed laptop) goes on where it stopped.
+  // docs/internals/HARDENING.md; a closed laptop) goes on where it stopped.
   bool resume = false;
 
   // One seed, box and poster, ¼-size images, a 128² atlas, 60 iterations of `run`, a budget

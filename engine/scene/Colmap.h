@@ -1,7 +1,7 @@
 #pragma once
 // COLMAP's sparse model, text (cameras.txt, images.txt, points3D.txt, as written by `colmap
 // model_converter --output_type TXT`) and binary (cameras.bin, images.bin, points3D.bin, what
-// `colmap mapper` writes): one vkrecon camera per registered image (DESIGN.md, "cameras"),
+// `colmap mapper` writes): one vkrecon camera per registered image (docs/guide/SCENE_FORMAT.md, "cameras"),
 // and the triangulated points that `vkrecon init` places the ground and the priors by.
 
 #include <Eigen/Core>
