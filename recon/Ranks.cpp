@@ -45,7 +45,7 @@ bool Ranks::Built() {
 #endif
 }
 
-Ranks::Ranks(bool join) {
+Ranks::Ranks([[maybe_unused]] bool join) {  // unused in a build without MPI
 #if VKRECON_HAVE_MPI
   if (!join || !UnderLauncher()) return;
   int initialised = 0;
