@@ -24,9 +24,10 @@
 
 #include "engine/common/InputError.h"
 #include "engine/geometry/SceneGeometry.h"
+#include "optimiser/Evidence.h"
+#include "optimiser/JsonIntegers.h"
 #include "optimiser/Polish.h"
 #include "optimiser/Sampler.h"
-#include "optimiser/SamplerState.h"  // ReadInteger
 #include "pipelines/likelihood/LikelihoodTool.h"
 #include "pipelines/rendering/ModelExport.h"
 #include "pipelines/likelihood/NoiseCalibration.h"
@@ -159,7 +160,7 @@ nlohmann::json StartJson(const opt::MapSearchSummary& s) {
 opt::MapSearchSummary StartFromJson(const nlohmann::json& j) {
   opt::MapSearchSummary s;
   s.ok = true;
-  s.evaluations = opt::detail::ReadInteger<int64_t>(j.at("evaluations"));
+  s.evaluations = opt::ReadInteger<int64_t>(j.at("evaluations"));
   s.cost = j.at("cost").get<double>();
   s.map = j.at("map").get<std::vector<double>>();
   if (!j.at("log_posterior").is_null()) s.log_posterior = j.at("log_posterior").get<double>();
@@ -596,6 +597,8 @@ void WriteOutputs(const RunContext& run, const opt::Sampler& sampler, const opt:
   // overlays/, report.html (docs/guide/REPORT.md)
   report::WriteRunReport(run.options.output_dir, run.scene, model.geometry, summary->map);
   if (!run.quiet) std::cerr << summary->BriefReport() << "\n";
+  // With sampler.evidence_rungs: the log evidence (docs/internals/EVIDENCE.md), also in map.json.
+  if (!run.quiet && summary->evidence) std::cerr << opt::BriefReport(*summary->evidence) << "\n";
 }
 
 }  // namespace
