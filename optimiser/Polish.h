@@ -27,7 +27,7 @@ struct PolishSummary {
 // per parameter (the sample's, else the Laplace approximation's, within [1e-6, 0.05] of the
 // prior width), at most `evaluations` evaluations, converging far below what photographs
 // resolve (the budget ends it). Also what the polish at the finer atlas climbs with
-// (apps/FinerAtlasPolish.h).
+// (recon/FinerAtlasPolish.h).
 MapSearchOptions PolishOptions(const std::vector<ParameterSpec>& parameters, const SamplerSummary& summary,
                                int evaluations);
 

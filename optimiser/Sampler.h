@@ -98,7 +98,7 @@ struct Progress {
   // Best untempered log posterior scored at the current level (−∞ before any).
   double best_log_posterior = 0.0;
   // The hypothesis that scored it (empty before any): the running MAP, which the peers
-  // benchmark watches (apps/PeersBench.h).
+  // benchmark watches (bench/peers/PeersBench.h).
   std::vector<double> best_psi;
   double acceptance = 0.0;       // coldest replicas, all chains, since the start
   double swap_acceptance = 0.0;  // all neighbour pairs, since the start (NaN before any)
@@ -111,7 +111,7 @@ struct ParameterSummary {
   // quantiles then moved by interval_shift.
   double mean = 0.0, sd = 0.0, q025 = 0.0, q975 = 0.0;
   // How far mean and quantiles were moved after sampling, with a MAP polished beyond the
-  // chains' likelihood (apps/FinerAtlasPolish.h); 0 when not. chain.csv keeps the draws as
+  // chains' likelihood (recon/FinerAtlasPolish.h); 0 when not. chain.csv keeps the draws as
   // sampled.
   double interval_shift = 0.0;
   double ess = 0.0;   // EffectiveSampleSize (Statistics.h)

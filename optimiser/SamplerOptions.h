@@ -123,7 +123,7 @@ struct SamplerOptions {
   // by the sampler's caller with PolishMap (Polish.h), after Run; not by the Sampler itself.
   int polish_evaluations = 80;
   // After the polish: at most this many evaluations of BOBYQA at twice the atlas's side (0:
-  // no check), to see whether the MAP depends on the atlas's resolution (apps/
+  // no check), to see whether the MAP depends on the atlas's resolution (recon/
   // FinerAtlasPolish.h; the surface likelihood only). Each costs about four of the run's.
   // Run by the sampler's caller; not by the Sampler itself.
   int finer_atlas_polish = 60;

@@ -1,7 +1,7 @@
 #pragma once
 // What the sampler samples: a function from a batch of hypotheses Ψ (each a vector in the
 // order of the ParameterSpec list) to their log-likelihoods. The GPU likelihoods of
-// pipelines/ are wrapped in one by apps/; tests use FunctionTarget.
+// pipelines/ are wrapped in one by recon/ (LikelihoodTarget.h); tests use FunctionTarget.
 
 #include <cstdint>
 #include <functional>
