@@ -4,7 +4,7 @@
 #   scripts/device_check.sh prepare        here: a Release build of vkrecon and the shared
 #                                          libraries it needs, in device_bundle/ (≤ 64 MiB),
 #                                          with each asset's photographs and lavapipe's
-#                                          likelihoods of them; then a dry run on lavapipe
+#                                          likelihoods of them (`run` here is the dry run)
 #   scripts/device_check.sh run OUT        there (or here for the dry run): `vkrecon devices`,
 #                                          the likelihood on every asset against lavapipe's,
 #                                          `vkrecon bench --json`, one default `run` of house;
@@ -15,8 +15,9 @@
 #   bench/device_report.py OUT             back here: the "On a GPU" section of bench/RESULTS.md
 #
 # The bundle carries its own glibc and loader too: if the machine's libc is older than
-# Debian 12's, vkrecon runs under the carried ld.so (DEVICE_CHECK_LOADER=1 forces that). Only the GPU's Vulkan driver comes from
-# the machine (its ICD manifest is searched for where NVIDIA's container images put it).
+# Debian 12's, vkrecon runs under the carried ld.so (DEVICE_CHECK_LOADER=1 forces that).
+# Only the GPU's Vulkan driver comes from the machine (its ICD manifest is searched for where
+# NVIDIA's container images put it), with glvnd's libraries from the bundle where it lacks them.
 # docs/internals/BENCHMARKS.md ("On a GPU") says how the figures are read.
 set -euo pipefail
 cd "$(dirname "$0")/.."
