@@ -65,6 +65,7 @@ inline std::vector<Eigen::Vector3d> SampleSurfaces(const Scene& scene, const std
   return points;
 }
 
+#ifdef VKRECON_SOURCE_DIR  // the test targets define it (tests/CMakeLists.txt); the header check does not
 // Writes the asset's model (text in `dir`/sparse, or binary) and grey photographs in `dir`/images.
 inline SyntheticColmap MakeSyntheticColmap(const std::string& asset, const std::filesystem::path& dir, bool binary,
                                            std::uint64_t seed, int count = 3000) {
@@ -113,6 +114,7 @@ inline SyntheticColmap MakeSyntheticColmap(const std::string& asset, const std::
   }
   return s;
 }
+#endif
 
 // Replaces the model in s.sparse by `change`(the model), written binary.
 template <typename Change>
