@@ -67,6 +67,8 @@ json ReplicaToJson(const Replica& r) {
           {"log_likelihood", JsonNumber(r.log_likelihood)},
           {"proposed", r.proposed},
           {"accepted", r.accepted},
+          {"independent_proposed", r.independent_proposed},
+          {"independent_accepted", r.independent_accepted},
           {"log_scale", JsonNumber(r.log_scale)},
           {"adapt_count", r.adapt_count},
           {"adapt_mean", Vector(r.adapt_mean)},
@@ -80,6 +82,11 @@ Replica ReplicaFromJson(const json& jr, int d) {
   r.log_likelihood = ReadNumber(jr.at("log_likelihood"));
   r.proposed = ReadInteger<int64_t>(jr.at("proposed"));
   r.accepted = ReadInteger<int64_t>(jr.at("accepted"));
+  // Absent from checkpoints written before independence proposals: none were made.
+  if (jr.contains("independent_proposed")) {
+    r.independent_proposed = ReadInteger<int64_t>(jr.at("independent_proposed"));
+    r.independent_accepted = ReadInteger<int64_t>(jr.at("independent_accepted"));
+  }
   r.log_scale = ReadNumber(jr.at("log_scale"));
   r.adapt_count = ReadInteger<int64_t>(jr.at("adapt_count"));
   r.adapt_mean = ReadVector(jr.at("adapt_mean"), d);
@@ -151,6 +158,19 @@ double ReadNumber(const json& j) {
   throw std::invalid_argument("expected a number, found " + j.dump());
 }
 
+// Whether the samples' iteration column has iterations 0 … s.iteration − 1 in order, each
+// with one row per chain (before cooling) or per replica (after it).
+bool RowsPerIteration(const json& iterations, const State& s) {
+  const size_t chains = size_t(s.options.chains), all = size_t(s.PosteriorChains());
+  size_t i = 0;
+  for (int t = 0; t < s.iteration; ++t) {
+    size_t n = 0;
+    while (i < iterations.size() && ReadInteger<int>(iterations[i]) == t) ++n, ++i;
+    if (n != chains && n != all) return false;
+  }
+  return i == iterations.size();
+}
+
 json StateToJson(const State& s) {
   json j;
   j["format"] = kFormat;
@@ -192,7 +212,8 @@ json StateToJson(const State& s) {
 
   j["settle"] = {{"rounds", s.settle_rounds},
                 {"calibration", s.calibration},
-                {"laplace", s.laplace.size() ? Matrix(s.laplace) : json::array()}};
+                {"laplace", s.laplace.size() ? Matrix(s.laplace) : json::array()},
+                {"mode", Numbers(s.mode)}};
 
   // The chain so far, column by column.
   json iteration = json::array(), chain = json::array(), level = json::array(),
@@ -224,6 +245,9 @@ State StateFromJson(const json& j) {
       throw std::invalid_argument("unsupported version " + j.at("version").dump());
     State s;
     std::string why;
+    // A checkpoint from before cooling and independence proposals goes on as it began.
+    s.options.cool_after_settling = false;
+    s.options.independence_share = 0.0;
     if (!FromJson(j.at("options"), &s.options, &why)) throw std::invalid_argument(why);
     for (const json& p : j.at("parameters")) {
       ParameterSpec spec;
@@ -291,6 +315,8 @@ State StateFromJson(const json& j) {
     s.settle_rounds = ReadInteger<int>(settle.at("rounds"));
     s.calibration = settle.at("calibration");
     if (!settle.at("laplace").empty()) s.laplace = ReadMatrix(settle.at("laplace"), d);
+    if (settle.contains("mode")) s.mode = ReadNumbers(settle.at("mode"));
+    if (!s.mode.empty() && int(s.mode.size()) != d) throw std::invalid_argument("settle: mode of the wrong size");
     if ((s.phase == Phase::Refining || s.phase == Phase::Settling || s.phase == Phase::Restarting) &&
         (int(r.candidate.size()) != d || r.inverse_hessian.rows() != d ||
          (r.have_point && (int(r.psi.size()) != d || int(r.gradient.size()) != d))))
@@ -301,7 +327,7 @@ State StateFromJson(const json& j) {
     for (const char* column : {"chain", "level", "temperature", "accepted", "swapped",
                                "log_prior", "log_likelihood", "psi"})
       if (rows.at(column).size() != n) throw std::invalid_argument("samples: columns differ in length");
-    if (n != size_t(s.iteration) * size_t(s.options.chains))
+    if (!RowsPerIteration(rows.at("iteration"), s))
       throw std::invalid_argument("samples: not one row per chain per iteration");
     s.samples.reserve(n);
     for (size_t i = 0; i < n; ++i) {

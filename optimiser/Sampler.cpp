@@ -57,7 +57,12 @@ double State::AnnealTemperature(int t) const {
 }
 
 double State::Temperature(int t, int replica) const {
+  if (Cooled()) return 1.0;
   return AnnealTemperature(t) * std::pow(options.temperature_ratio, replica);
+}
+
+bool State::Cooled() const {
+  return options.cool_after_settling && options.settle && settle_rounds >= options.settle_rounds;
 }
 
 int State::AdaptStart() const {
@@ -184,56 +189,6 @@ struct Engine {
       }
   }
 
-  // The random-walk proposal of replica k (SamplerOptions: proposal_scale, adapt).
-  std::vector<double> Propose(ChainState& chain, int k, double temperature) {
-    const int d = s.dimension();
-    const Replica& r = chain.replicas[k];
-    Eigen::VectorXd z(d);
-    for (int i = 0; i < d; ++i) z[i] = chain.rng.Normal();
-    Eigen::VectorXd step(d);
-    bool adapted = false;
-    if (s.options.adapt && r.adapt_count >= s.options.adapt_min_samples) {
-      Eigen::MatrixXd cov = r.adapt_scatter / double(r.adapt_count - 1);
-      if (s.laplace.rows() == d) {
-        // After settling, the Laplace covariance (times T) counts as adapt_min_samples
-        // prior states. It keeps the covariance positive definite at the posterior's own
-        // scale, where ε·width² would be 10–100× too wide for photographs.
-        const double n0 = double(s.options.adapt_min_samples), n = double(r.adapt_count - 1);
-        cov = (n * cov + n0 * temperature * s.laplace) / (n + n0);
-      } else {
-        for (int i = 0; i < d; ++i) {
-          const double w = s.parameters[i].Width();
-          cov(i, i) += s.options.adapt_epsilon * w * w;
-        }
-      }
-      cov *= 2.38 * 2.38 / double(d);
-      // After settling the burn-in's tuning scales the adapted proposal too: a likelihood
-      // that is rough below its curvature's scale wants smaller steps than 2.38/√d.
-      if (s.laplace.rows() == d) cov *= std::exp(2.0 * r.log_scale);
-      const Eigen::LLT<Eigen::MatrixXd> llt(cov);
-      if (llt.info() == Eigen::Success) {
-        step = llt.matrixL() * z;
-        adapted = true;
-      }
-    }
-    if (!adapted && s.laplace.rows() == d) {
-      // Settled: the Laplace covariance, scaled like an adapted one and tuned by log_scale.
-      const Eigen::LLT<Eigen::MatrixXd> llt(s.laplace);
-      if (llt.info() == Eigen::Success) {
-        step = (2.38 / std::sqrt(double(d))) * std::sqrt(temperature) * std::exp(r.log_scale) *
-               (Eigen::MatrixXd(llt.matrixL()) * z);
-        adapted = true;
-      }
-    }
-    if (!adapted) {
-      const double f = std::min(s.options.proposal_scale * std::sqrt(temperature) * std::exp(r.log_scale), 1.0);
-      for (int i = 0; i < d; ++i) step[i] = f * s.parameters[i].Width() * z[i];
-    }
-    std::vector<double> psi = r.psi;
-    for (int i = 0; i < d; ++i) psi[i] += step[i];
-    return psi;
-  }
-
   void SamplingFrame() {
     const int t = s.iteration;
     if (const int level = s.ScheduledLevel(t); level != s.level) {
@@ -258,14 +213,15 @@ struct Engine {
     for (int k = 0; k < temps; ++k) temperature[k] = s.Temperature(t, k);
 
     // Proposals, one batch.
-    std::vector<std::vector<double>> proposals, batch;
+    std::vector<Proposal> proposals;
+    std::vector<std::vector<double>> batch;
     std::vector<double> proposal_prior;
     for (ChainState& c : s.chains)
       for (int k = 0; k < temps; ++k) {
-        proposals.push_back(Propose(c, k, temperature[k]));
-        proposal_prior.push_back(LogPrior(s.parameters, proposals.back()));
+        proposals.push_back(Propose(s, c, k, temperature[k]));
+        proposal_prior.push_back(LogPrior(s.parameters, proposals.back().psi));
         // Outside the support: rejected unscored; the slot carries the current state.
-        batch.push_back(std::isfinite(proposal_prior.back()) ? proposals.back()
+        batch.push_back(std::isfinite(proposal_prior.back()) ? proposals.back().psi
                                                              : c.replicas[k].psi);
       }
     // The evidence ladder's hypotheses ride in the same batch (nothing when it is off).
@@ -280,14 +236,17 @@ struct Engine {
       for (int k = 0; k < temps; ++k) {
         const size_t i = size_t(c * temps + k);
         Replica& r = chain.replicas[k];
+        Proposal& proposal = proposals[i];
         ++r.proposed;
+        r.independent_proposed += proposal.independent;
         const double log_u = std::log(chain.rng.UniformOpen());
         const double lp = proposal_prior[i], ll = values[i];
         const bool scored = std::isfinite(lp) && std::isfinite(ll);
         const double current = r.log_prior + r.log_likelihood / temperature[k];
         const double proposed = lp + ll / temperature[k];
-        const bool accept = scored && (current == -kInf || log_u < proposed - current);
-        if (t < s.options.BurnIn()) {
+        const bool accept =
+            scored && (current == -kInf || log_u < proposed - current + proposal.log_q_ratio);
+        if (t < s.options.BurnIn() && !proposal.independent) {
           // Robbins–Monro towards 0.234 acceptance (Replica::log_scale), burn-in only. After a
           // settling restart the gain starts afresh (adapt_count counts the iterations since).
           const double n = s.laplace.rows() == d ? double(r.adapt_count + 1) : double(r.proposed);
@@ -295,18 +254,19 @@ struct Engine {
           r.log_scale = std::clamp(r.log_scale + gain * ((accept ? 1.0 : 0.0) - 0.234), -12.0, 3.0);
         }
         if (!scored) continue;
-        s.ConsiderBest(proposals[i], lp, ll);
+        s.ConsiderBest(proposal.psi, lp, ll);
         if (accept) {
-          r.psi = std::move(proposals[i]);
+          r.psi = std::move(proposal.psi);
           r.log_prior = lp;
           r.log_likelihood = ll;
           ++r.accepted;
+          r.independent_accepted += proposal.independent;
           accepted[i] = 1;
         }
       }
       // Replica exchange between neighbours, even and odd pairs in turn. The prior is not
       // tempered, so only the likelihoods enter the ratio.
-      if (temps > 1 && t % s.options.swap_interval == 0) {
+      if (temps > 1 && !s.Cooled() && t % s.options.swap_interval == 0) {
         for (int k = (t / s.options.swap_interval) % 2; k + 1 < temps; k += 2) {
           Replica& cold = chain.replicas[k];
           Replica& hot = chain.replicas[k + 1];
@@ -337,20 +297,22 @@ struct Engine {
           r.adapt_scatter += delta * (x - r.adapt_mean).transpose();
         }
 
-    for (int c = 0; c < chains; ++c) {
-      const Replica& r = s.chains[c].replicas[0];
-      Sample row;
-      row.iteration = t;
-      row.chain = c;
-      row.level = s.level;
-      row.temperature = temperature[0];
-      row.accepted = accepted[size_t(c * temps)];
-      row.swapped = swapped[size_t(c * temps)];
-      row.log_prior = r.log_prior;
-      row.log_likelihood = r.log_likelihood;
-      row.psi = r.psi;
-      s.samples.push_back(std::move(row));
-    }
+    // The coldest replica of every chain; once cooled, every replica, as chain k·chains + c.
+    for (int k = 0; k < (s.Cooled() ? temps : 1); ++k)
+      for (int c = 0; c < chains; ++c) {
+        const Replica& r = s.chains[c].replicas[k];
+        Sample row;
+        row.iteration = t;
+        row.chain = k * chains + c;
+        row.level = s.level;
+        row.temperature = temperature[k];
+        row.accepted = accepted[size_t(c * temps + k)];
+        row.swapped = swapped[size_t(c * temps + k)];
+        row.log_prior = r.log_prior;
+        row.log_likelihood = r.log_likelihood;
+        row.psi = r.psi;
+        s.samples.push_back(std::move(row));
+      }
 
     ++s.iteration;
     // Convergence is measured for the progress line with either length; with

@@ -66,7 +66,9 @@ enum class Termination {
 const char* ToString(Termination termination);
 bool FromString(const std::string& text, Termination* termination);
 
-// One row of the chain: the coldest replica of one chain after one iteration.
+// One row of the chain: the coldest replica of one chain after one iteration; once every
+// replica samples at T = 1 (cool_after_settling), one row per replica k of chain c, as
+// chain k·chains + c.
 struct Sample {
   int iteration = 0;
   int chain = 0;
@@ -131,6 +133,8 @@ struct ChainSummary {
   double acceptance = 0.0;                      // coldest replica, all iterations
   std::vector<double> replica_acceptance;       // per temperature, coldest first
   std::vector<double> swap_acceptance;          // per neighbour pair (k, k+1)
+  // Of the independence proposals (SamplerOptions::independence_share), all replicas; NaN: none.
+  double independence_acceptance = 0.0;
 };
 
 struct SamplerSummary {
@@ -147,6 +151,9 @@ struct SamplerSummary {
   // Polish.h); the per-parameter summaries other than "map" are still the chains'.
   bool map_from_search = false;
   std::vector<ChainSummary> chains;
+  // How many chains the posterior draws pool: `chains`, or chains × temperatures once every
+  // replica sampled at T = 1 (SamplerOptions::cool_after_settling); Sample::chain counts them.
+  int posterior_chains = 0;
   nlohmann::json calibration;  // the target's, from settling (null: none)
   std::vector<Sample> chain;  // every iteration of every chain's coldest replica
 

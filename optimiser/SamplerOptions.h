@@ -69,6 +69,19 @@ struct SamplerOptions {
   // annealing and the coarse levels, whose states do not sample the posterior.
   double burn_in_fraction = 0.6;
 
+  // Once the last settling round has restarted the replicas around the mode, every replica
+  // samples at T = 1 as a chain of its own: tempering is for finding modes, and hot replicas
+  // would otherwise spend three quarters of every frame on states that are not draws.
+  // Replica exchange stops then; the posterior statistics pool chains × temperatures chains.
+  bool cool_after_settling = true;
+  // After settling, this share of the proposals is drawn independently of the current state
+  // from a multivariate t (ν = 8) around the mode, with the covariance the random walk uses
+  // (the Laplace approximation blended with the replica's adapted one), and accepted by the
+  // Metropolis–Hastings ratio with the proposal's densities. Where the posterior is near the
+  // Laplace approximation a draw is nearly independent of the last; the random walk keeps
+  // the rest. 0: the random walk only.
+  double independence_share = 0.8;
+
   // Random-walk proposal sd of each parameter as a fraction of its prior width (Width()),
   // times √T of the replica (a hot replica's target is wider), at most one width.
   double proposal_scale = 0.05;

@@ -35,6 +35,8 @@ struct Replica {
   double log_prior = -kInf;
   double log_likelihood = -kInf;  // at the current level
   int64_t proposed = 0, accepted = 0;
+  // Of those, the independence proposals (SamplerOptions::independence_share).
+  int64_t independent_proposed = 0, independent_accepted = 0;
   // Log factor on the proposal scale, tuned during burn-in towards an acceptance of 0.234
   // (Robbins–Monro) and frozen after it; photographs make posteriors far narrower than a
   // fixed fraction of the prior width, and a too-wide walk accepts almost nothing.
@@ -114,6 +116,7 @@ struct State {
   int settle_rounds = 0;
   nlohmann::json calibration;
   Eigen::MatrixXd laplace;
+  std::vector<double> mode;  // where the last settling round measured it (empty before)
   std::vector<Sample> samples;  // iteration-major: all chains of iteration 0, then 1, …
   EvidenceState evidence;
 
@@ -123,6 +126,10 @@ struct State {
   int ScheduledLevel(int iteration) const;
   double AnnealTemperature(int iteration) const;  // of the coldest replicas
   double Temperature(int iteration, int replica) const;
+  // Whether every replica samples at T = 1 as a chain of its own (cool_after_settling, once
+  // the last settling round is done), and how many chains the posterior draws then pool.
+  bool Cooled() const;
+  int PosteriorChains() const { return Cooled() ? options.chains * options.temperatures : options.chains; }
   int AdaptStart() const;                 // first iteration whose states adaptation collects
   bool SettlesAt(int iteration) const;    // whether settling comes before this iteration
   int NextSettleAt() const;               // iteration of the next settling round; −1: none due
@@ -140,6 +147,16 @@ State InitialState(const SamplerOptions& options, const std::vector<ParameterSpe
 // Evaluates a batch of any size (split into calls of at most the target's batch), turning
 // NaN and ±∞ into −∞ and counting evaluations.
 using BatchEvaluator = std::function<std::vector<double>(const std::vector<std::vector<double>>&)>;
+
+// Proposals.cpp: replica k's proposal at `temperature`. After settling, with probability
+// independence_share an independence draw from a multivariate t around the mode (its
+// log q(current) − log q(proposal) in log_q_ratio), else the random walk (log_q_ratio 0).
+struct Proposal {
+  std::vector<double> psi;
+  double log_q_ratio = 0.0;
+  bool independent = false;
+};
+Proposal Propose(const State& state, ChainState& chain, int k, double temperature);
 
 // Refinement.cpp. The refinement runs twice: in Phase::Settling to find the mode (then
 // Phase::Restarting follows) and in Phase::Refining at the end (then Phase::Done).

@@ -261,7 +261,10 @@ void RestartFrame(State& s, Target& target, const BatchEvaluator& evaluate) {
   s.best.level = s.level;
   s.ConsiderBest(mode, LogPrior(s.parameters, mode), mode_log_likelihood);
 
-  // Every replica restarts around the mode; without a covariance, at the mode itself.
+  // Every replica restarts around the mode; without a covariance, at the mode itself. After
+  // the last round, at T = 1 (cool_after_settling).
+  s.mode = mode;
+  ++s.settle_rounds;
   Eigen::MatrixXd lower;
   if (s.laplace.size()) lower = Eigen::MatrixXd(Eigen::LLT<Eigen::MatrixXd>(s.laplace).matrixL());
   std::vector<std::vector<double>> starts;
@@ -300,7 +303,6 @@ void RestartFrame(State& s, Target& target, const BatchEvaluator& evaluate) {
       r.adapt_scatter.setZero();
       ++i;
     }
-  ++s.settle_rounds;
   s.phase = Phase::Sampling;
 }
 

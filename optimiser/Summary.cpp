@@ -38,7 +38,7 @@ bool FromString(const std::string& text, Termination* termination) {
 namespace detail {
 
 std::vector<std::vector<std::vector<double>>> PosteriorDraws(const State& s) {
-  const int d = s.dimension(), chains = s.options.chains;
+  const int d = s.dimension(), chains = s.PosteriorChains();
   const int burn_in = s.options.BurnIn();
   std::vector<std::vector<std::vector<double>>> draws(
       size_t(d), std::vector<std::vector<double>>{size_t(chains)});
@@ -121,8 +121,12 @@ SamplerSummary Summarise(const State& s) {
     for (size_t k = 0; k < c.swap_attempts.size(); ++k)
       cs.swap_acceptance.push_back(ratio(c.swap_accepts[k], c.swap_attempts[k]));
     cs.acceptance = cs.replica_acceptance.front();
+    int64_t proposed = 0, accepted = 0;
+    for (const Replica& r : c.replicas) proposed += r.independent_proposed, accepted += r.independent_accepted;
+    cs.independence_acceptance = ratio(accepted, proposed);
     out.chains.push_back(cs);
   }
+  out.posterior_chains = s.PosteriorChains();
   out.evidence = EstimateFromLadder(s);
   return out;
 }
@@ -211,13 +215,15 @@ nlohmann::json MapJson(const SamplerSummary& s) {
     for (double a : c.swap_acceptance) swap.push_back(Nullable(a));
     chains.push_back({{"acceptance", Nullable(c.acceptance)},
                       {"replica_acceptance", replica},
-                      {"swap_acceptance", swap}});
+                      {"swap_acceptance", swap},
+                      {"independence_acceptance", Nullable(c.independence_acceptance)}});
   }
   nlohmann::json j = {{"parameters", parameters},
                       {"log_likelihood", Nullable(s.map_log_likelihood)},
                       {"log_prior", Nullable(s.map_log_prior)},
                       {"log_posterior", Nullable(s.map_log_posterior)},
                       {"chains", chains},
+                      {"posterior_chains", s.posterior_chains},
                       {"calibration", s.calibration},
                       {"termination", ToString(s.termination)},
                       {"message", s.message},

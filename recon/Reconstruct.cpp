@@ -565,7 +565,7 @@ void WriteChains(const RunContext& run, const opt::Sampler& sampler, const opt::
     WriteAtomically(out / "chain.csv", csv.str());
   }
   fs::create_directories(out / "chains");
-  for (int c = 0; c < sampler.options().chains; ++c) {
+  for (int c = 0; c < summary.posterior_chains; ++c) {
     std::ostringstream stan;
     opt::WriteStanCsv(stan, summary, sampler.parameters(), c, sampler.options().seed);
     WriteAtomically(out / "chains" / ("stan-" + std::to_string(c + 1) + ".csv"), stan.str());

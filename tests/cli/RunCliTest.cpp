@@ -87,10 +87,15 @@ TEST(RunCli, KilledRunResumesToTheSameResult) {
   EXPECT_EQ(a["settings"]["likelihood"]["sigma"], "auto");
   EXPECT_EQ(test::ReadText(dir / "straight/chain.csv"), test::ReadText(out / "chain.csv"));
   for (const char* f : {"composite.exr", "composite.png", "model.glb", "chain.csv"}) EXPECT_TRUE(fs::exists(out / f)) << f;
-  // One CmdStan CSV per chain (its format is tested in optimiser/Sampler.StanCsv…), equal too.
-  for (const char* f : {"chains/stan-1.csv", "chains/stan-2.csv"})
+  // One CmdStan CSV per posterior chain (its format is tested in optimiser/Sampler.StanCsv…),
+  // equal too: 2 chains of 2 replicas, each replica a chain of its own once settled.
+  const int chains = a["posterior_chains"].get<int>();
+  EXPECT_EQ(chains, 4);
+  for (int k = 1; k <= chains; ++k) {
+    const std::string f = "chains/stan-" + std::to_string(k) + ".csv";
     EXPECT_EQ(test::ReadText(dir / "straight" / f), test::ReadText(out / f)) << f;
-  EXPECT_FALSE(fs::exists(out / "chains/stan-3.csv"));
+  }
+  EXPECT_FALSE(fs::exists(out / ("chains/stan-" + std::to_string(chains + 1) + ".csv")));
   EXPECT_EQ(a["sampling"]["ended_by"], "iterations");  // a fixed count: no time limit by default
   // The local search before sampling ran once, before the first checkpoint; the resumed run
   // compared the same mode at the end and counted its evaluations alike.

@@ -115,6 +115,35 @@ TEST(Checkpoint, CheckpointBeforeTheFirstFrameAndStepByStep) {
   EXPECT_EQ(a.Checkpoint().dump(), b->Checkpoint().dump());
 }
 
+// A checkpoint written before cooling and independence proposals (none of their fields)
+// resumes as the run it was: tempered to the end, random walk only.
+TEST(Checkpoint, CheckpointFromBeforeCoolingGoesOnAsItBegan) {
+  SamplerOptions legacy = Options();
+  legacy.cool_after_settling = false;
+  legacy.independence_share = 0.0;
+  FunctionTarget straight_target(LevelledTarget, 9, 3);
+  SamplerSummary straight;
+  ASSERT_TRUE(opt::Run(legacy, Parameters(), straight_target, &straight)) << straight.message;
+  EXPECT_EQ(straight.posterior_chains, 3);
+
+  FunctionTarget target(LevelledTarget, 9, 3);
+  Sampler sampler(legacy, Parameters(), target);
+  while (sampler.progress().iteration < 200) sampler.Step();
+  nlohmann::json old = sampler.Checkpoint();
+  old["options"].erase("cool_after_settling");
+  old["options"].erase("independence_share");
+  old["settle"].erase("mode");
+  for (auto& chain : old["chains"])
+    for (auto& replica : chain["replicas"]) {
+      replica.erase("independent_proposed");
+      replica.erase("independent_accepted");
+    }
+  FunctionTarget resumed_target(LevelledTarget, 9, 3);
+  SamplerSummary resumed;
+  ASSERT_TRUE(Resume(old, resumed_target, &resumed)) << resumed.message;
+  ExpectSameSummary(straight, resumed);
+}
+
 TEST(Checkpoint, MismatchedOrMalformedCheckpointsAreRejected) {
   FunctionTarget target(LevelledTarget, 9, 3);
   Sampler sampler(Options(), Parameters(), target);

@@ -50,7 +50,11 @@ TEST(Sampler, RecoversACorrelatedGaussianPosterior) {
   ASSERT_TRUE(opt::Run(o, g.Parameters(), target, &s)) << s.message;
   EXPECT_EQ(s.termination, Termination::Completed);
   EXPECT_EQ(s.burn_in, 1800);
-  ASSERT_EQ(s.chain.size(), size_t(6000 * 4));
+  // Once settled, every replica samples at T = 1 as a chain of its own: 16 posterior chains.
+  ASSERT_EQ(s.posterior_chains, 16);
+  size_t posterior_rows = 0;
+  for (const Sample& row : s.chain) posterior_rows += row.iteration >= s.burn_in;
+  ASSERT_EQ(posterior_rows, size_t((6000 - 1800) * 16));
 
   for (int i = 0; i < 2; ++i) {
     const ParameterSummary& p = s.parameters[size_t(i)];
