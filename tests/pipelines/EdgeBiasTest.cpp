@@ -17,9 +17,9 @@
 #include <sstream>
 
 #include "pipelines/likelihood/LikelihoodTool.h"
-#include "pipelines/rendering/ViewRendering.h"
 #include "tests/common/GpuTest.h"
 #include "tests/common/TestFiles.h"
+#include "tests/pipelines/SynthesisedAsset.h"
 
 namespace vkr {
 namespace {
@@ -41,15 +41,7 @@ class EdgeBias : public test::GpuTest {
   // the study's images.
   void SetUp() override {
     GpuTest::SetUp();
-    SynthOptions synth;
-    synth.scene_file = kAsset / "synth.json";
-    synth.at_file = kAsset / "truth.json";
-    synth.output_dir = dir_.path();
-    synth.noise_sigma = 8.0;
-    synth.seed = 7;
-    synth.scale = 0.25;
-    synth.atlas = 1024;
-    images_ = SynthesiseImages(synth, device()).images;
+    test::SynthesiseAssetImages(device(), "house_cloth", 8.0, dir_, "synth.json");
   }
 
   LikelihoodToolOptions Options(const fs::path& at) const {
@@ -90,12 +82,14 @@ class EdgeBias : public test::GpuTest {
   }
 
   test::TempDir dir_;
-  std::vector<fs::path> images_;
 };
 
 TEST_F(EdgeBias, TodaysModeShrinksTheOverhangAndTheOcclusionPriorPaysForIt) {
-  ASSERT_EQ(images_.size(), 6u);
-  for (const fs::path& image : images_) EXPECT_GT(fs::file_size(image), 1000u) << image;
+  for (int i = 0; i < 6; ++i) {
+    const fs::path image = dir_ / ("cam" + std::to_string(i) + ".png");
+    ASSERT_TRUE(fs::exists(image)) << image;
+    EXPECT_GT(fs::file_size(image), 1000u) << image;
+  }
   const Evaluation truth = At(kAsset / "truth.json"), mode = At(OnTheWayToTodaysMode(1.0));
   std::printf("  truth: total %.1f = %.1f %+.1f, one view %u; today's mode: total %.1f = %.1f %+.1f, one view %u\n",
               truth.total(), truth.log_likelihood, truth.log_occlusion_prior, truth.scalars.seen_once, mode.total(),
