@@ -435,7 +435,10 @@ def edge_assets():
     truth_no_overhang.json (walls flush with the roof, e = 0), cameras_dense.json (six more
     cameras high above, so the roof's back and sides are seen by two views or more), and
     synth_sky.json (no cloth: a plain sky and a plain field beyond the ground);
-    synth_clean.json switches the three of the truth off at once."""
+    synth_clean.json switches the three of the truth off at once. Others make the scene
+    plainer still: synth_plain_walls.json paints walls and wing a plain colour, as a model
+    building's often are, synth_cloth_floor.json lays the cloth over the table the house
+    stands on, synth_cloth_floor_plain_walls.json does both."""
     params = {"x": uniform(-0.4, 0.4), "y": uniform(-0.6, 0.1), "yaw": uniform(-30, 30),
               "w": uniform(0.6, 1.4), "d": uniform(0.5, 1.2), "h": uniform(0.3, 0.8),
               "rh": uniform(0.1, 0.6), "e": uniform(0.0, 0.1),
@@ -482,6 +485,9 @@ def edge_assets():
                                                                             for t in n["transforms"])}
         return {"parameters": used, "nodes": nodes, "synth": photo}
 
+    plain_walls = [dict(n, albedo="textures/plaster.png") if n["name"] in ("walls", "wing") else n for n in house]
+    # The cloth laid over the table too: the ground the model stands on is as plain as the backdrop.
+    on_cloth = lambda nodes: [dict(n, albedo="textures/cloth_floor.png") if n["name"] == "ground" else n for n in nodes]
     cameras = ring(6, 2.5, 1.15, [0.2, 0.1, 0.35], start_deg=210, span_deg=120, jitter=0.1, seed=21)
     high = ring(6, 2.2, 3.2, [0.2, 0.2, 0.4], start_deg=210, span_deg=120, jitter=0.1, seed=22)
     for k, cam in enumerate(high):
@@ -501,13 +507,18 @@ def edge_assets():
          "cloth.png": lambda p: plain_texture(p, (0.62, 0.62, 0.6), (0.5, 0.5, 0.49)),
          "cloth_printed.png": small(17, (0.56, 0.56, 0.55)),
          "sky.png": lambda p: plain_texture(p, (0.62, 0.7, 0.82), (0.78, 0.82, 0.86)),
-         "field.png": lambda p: plain_texture(p, (0.5, 0.52, 0.42), (0.5, 0.52, 0.42))},
+         "field.png": lambda p: plain_texture(p, (0.5, 0.52, 0.42), (0.5, 0.52, 0.42)),
+         "plaster.png": lambda p: plain_texture(p, (0.86, 0.83, 0.74), (0.86, 0.83, 0.74)),
+         "cloth_floor.png": lambda p: plain_texture(p, (0.5, 0.5, 0.49), (0.56, 0.56, 0.55))},
         synth_scene=synth(house + chimneys + [cloth]),
         variants={"synth_textured_cloth.json": synth(house + chimneys + [printed]),
                   "synth_no_chimneys.json": synth(house + [cloth]),
                   "synth_no_overhang.json": synth(flush + chimneys + [cloth]),
                   "synth_sky.json": synth(house + chimneys + sky),
-                  "synth_clean.json": synth(flush + [printed])})
+                  "synth_clean.json": synth(flush + [printed]),
+                  "synth_plain_walls.json": synth(plain_walls + chimneys + [cloth]),
+                  "synth_cloth_floor.json": synth(on_cloth(house) + chimneys + [cloth]),
+                  "synth_cloth_floor_plain_walls.json": synth(on_cloth(plain_walls) + chimneys + [cloth])})
     folder = os.path.join(HERE, "house_cloth")
     for file, body in (("truth_no_overhang.json", dict(truth, e=0.0)),
                        ("cameras_dense.json", {"cameras": cameras + high})):

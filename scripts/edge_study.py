@@ -2,12 +2,12 @@
 """Where the likelihood puts a house in front of a plain cloth, and why: the study of
 docs/internals/DECISIONS.md, 2026-11-27 ("The evidence at the edges"). For each variant of
 assets/house_cloth (one cause of the bias switched off in the photographs each) it
-photographs the truth with `vkrecon synth` (quarter size, noise 8, seed 7), fits the MAP
+photographs the truth with `vkrecon synth` (quarter size, noise 8, seed 7 or --seed), fits the MAP
 with `vkrecon fit` from the truth, scores the truth and the MAP with
 `vkrecon likelihood`, and sweeps d, rh and w through the truth. Prints a Markdown table.
 
     python3 scripts/edge_study.py [--vkrecon build/apps/vkrecon] [--work /tmp/edge_study]
-        [--only all,a_off,…] [--sigma 4]
+        [--only all,a_off,…] [--sigma 4] [--seed 7]
 """
 import argparse
 import csv
@@ -28,8 +28,15 @@ VARIANTS = {
     "clean": ("(a), (b), (d)", "synth_clean.json", "truth_no_overhang.json", "cameras.json"),
     "clean_c": ("(a), (b), (c), (d)", "synth_clean.json", "truth_no_overhang.json", "cameras_dense.json"),
     "sky": ("cloth → plain sky", "synth_sky.json", "truth.json", "cameras.json"),
+    "plain_walls": ("nothing; walls plain", "synth_plain_walls.json", "truth.json", "cameras.json"),
+    "cloth_floor": ("nothing; cloth on the floor too", "synth_cloth_floor.json", "truth.json", "cameras.json"),
+    "cloth_floor_plain_walls": ("nothing; cloth floor, walls plain", "synth_cloth_floor_plain_walls.json",
+                                "truth.json", "cameras.json"),
 }
 SWEEPS = {"d": (0.72, 1.0, 15), "rh": (0.28, 0.42, 15), "w": (0.9, 1.1, 11)}
+# The ridge slid back and up along the plane of the front slope (d and rh/(d/2 + e) change
+# together, the front wall stays): s is the relative change of d/2 + e.
+RIDGE = [k * 0.025 for k in range(-4, 9)]
 
 
 def run(args, **kw):
@@ -46,6 +53,7 @@ def main():
     ap.add_argument("--work", default="/tmp/edge_study")
     ap.add_argument("--only", default=",".join(VARIANTS))
     ap.add_argument("--sigma", default="4")
+    ap.add_argument("--seed", default="7", help="the photographs' noise seed")
     a = ap.parse_args()
     rows = []
     for name in a.only.split(","):
@@ -58,7 +66,7 @@ def main():
         with open(os.path.join(out, "at_synth.json"), "w") as f:
             json.dump({k: v for k, v in json.load(open(truth_path)).items() if k in used}, f)
         run([a.vkrecon, "synth", os.path.join(ASSET, synth), "--at", os.path.join(out, "at_synth.json"), "--scale", "0.25",
-             "--noise", "8", "--seed", "7", "--set", "cameras=" + os.path.join(ASSET, cameras), "-o", out])
+             "--noise", "8", "--seed", a.seed, "--set", "cameras=" + os.path.join(ASSET, cameras), "-o", out])
         common = ["--set", "cameras=" + os.path.join(out, "cameras.json"), "--set", "images=" + out,
                   "--set", "likelihood.sigma=" + a.sigma]
         scene = os.path.join(ASSET, "scene.json")
@@ -81,6 +89,18 @@ def main():
                        + common)
             table = list(csv.DictReader(io.StringIO(text)))
             peaks[p] = float(max(table, key=lambda r: float(r["loglik"]))["value"])
+        ridge = []
+        for k, s in enumerate(RIDGE):
+            at = dict(truth)
+            half = (truth["d"] / 2 + truth["e"]) * (1 + s)
+            at["d"], at["rh"] = 2 * (half - truth["e"]), truth["rh"] * (1 + s)
+            path = os.path.join(out, "ridge_%d.json" % k)
+            with open(path, "w") as f:
+                json.dump(at, f)
+            ridge.append((s, score(path)))
+        s_best, best_ridge = max(ridge, key=lambda r: r[1]["total"])
+        peaks["ridge"] = (s_best, best_ridge["total"] - at_truth["total"],
+                          best_ridge["log_occlusion_prior"] - at_truth["log_occlusion_prior"])
         rows.append((name, what, truth, best, at_truth, at_map, peaks))
         print(name, {k: round(v, 4) for k, v in best.items()}, "gain", round(at_map["total"] - at_truth["total"], 1),
               "peaks", peaks, flush=True)
@@ -88,15 +108,17 @@ def main():
     print()
     print("| variant | switched off | d (MAP, %) | rh (MAP, %) | w (MAP, %) | pitch ° (truth → MAP) | e MAP | "
           "gain of the MAP over the truth (nats): total = photo-consistency + occlusion prior | "
-          "one-view texels, truth → MAP | 1-D sweep peaks d / rh / w |")
-    print("|---|---|---|---|---|---|---|---|---|---|")
+          "one-view texels, truth → MAP | 1-D sweep peaks d / rh / w | ridge back along the front slope: "
+          "best s, gain (of it the occlusion prior's) |")
+    print("|---|---|---|---|---|---|---|---|---|---|---|")
     for name, what, truth, best, at_truth, at_map, peaks in rows:
         cell = lambda p: "%.3f (%+.1f %%)" % (best[p], 100 * (best[p] / truth[p] - 1))
         gain = lambda k: at_map[k] - at_truth[k]
-        print("| %s | %s | %s | %s | %s | %.1f → %.1f | %.3f | %+.0f = %+.0f %+.0f | %d → %d | %.2f / %.2f / %.2f |" % (
+        print("| %s | %s | %s | %s | %s | %.1f → %.1f | %.3f | %+.0f = %+.0f %+.0f | %d → %d | %.2f / %.2f / %.2f "
+              "| %+.3f, %+.0f (%+.0f) |" % (
             name, what, cell("d"), cell("rh"), cell("w"), pitch(truth), pitch(best), best["e"], gain("total"),
             gain("log_likelihood"), gain("log_occlusion_prior"), at_truth["seen_once"], at_map["seen_once"],
-            peaks["d"], peaks["rh"], peaks["w"]))
+            peaks["d"], peaks["rh"], peaks["w"], peaks["ridge"][0], peaks["ridge"][1], peaks["ridge"][2]))
 
 
 if __name__ == "__main__":
