@@ -3,10 +3,11 @@
 // docs/internals/DECISIONS.md, 2026-11-27 ("The evidence at the edges"), with the command that
 // takes the bias apart (scripts/edge_study.py).
 //
-// The enabled test guards the asset and documents today's behaviour: the mode lies off the
-// truth, with the roof's overhang shrunk, and the occlusion prior — not photo-consistency —
-// pays for it. The DISABLED_ tests state what a likelihood that reads the edges should do (the
-// truth is the best point along each line through it) and fail today; run them with
+// The enabled tests guard the asset and document today's behaviour: the mode lies off the
+// truth, with the roof's overhang shrunk, and the occlusion prior's charge for texels one view
+// sees — not photo-consistency — pays for it; a CPU edge score prefers the truth. The
+// DISABLED_ tests state what a fixed likelihood must do (the truth is the best point along
+// each line through it) and fail today; run them with
 //   build/tests/pipelines_tests --gtest_also_run_disabled_tests --gtest_filter='EdgeBias*'
 
 #include <gtest/gtest.h>
@@ -40,6 +41,15 @@ const char* const kNames[] = {"x", "y", "yaw", "w", "d", "h", "rh", "e", "wl", "
 constexpr double kTruth[] = {0.0, -0.25, 8.0, 1.0, 0.8, 0.5, 0.35, 0.04, 0.45, 0.32};
 constexpr double kTodaysMode[] = {0.00214, -0.25225, 8.0111, 0.99854, 0.81184,
                                   0.50153, 0.35695,  0.01868, 0.45714, 0.32853};
+
+// The truth with its ridge slid back and up in the plane of the front slope: d/2 + e and rh
+// grow by the factor 1 + s, the front wall and the roof's pitch stay.
+std::vector<double> RidgeSlidBack(double s) {
+  std::vector<double> psi(std::begin(kTruth), std::end(kTruth));
+  psi[4] = 2 * ((kTruth[4] / 2 + kTruth[7]) * (1 + s) - kTruth[7]);
+  psi[6] = kTruth[6] * (1 + s);
+  return psi;
+}
 
 // A CPU edge score, a candidate for the evidence today's likelihood lacks: the colour
 // contrast in photograph `photo` across the hypothesis's silhouette `silhouette` (alpha ≥ ½
@@ -90,28 +100,28 @@ class EdgeBias : public test::GpuTest {
     return options;
   }
 
-  // A hypothesis truth + t (mode − truth), written as an --at file.
-  fs::path OnTheWayToTodaysMode(double t) const {
+  // Hypothesis `psi` (kNames' order) written as an --at file.
+  fs::path WriteAt(const std::vector<double>& psi) const {
     std::ostringstream text;
     text << std::setprecision(17) << "{";
-    for (size_t i = 0; i < std::size(kNames); ++i)
-      text << (i ? ", " : "") << '"' << kNames[i] << "\": " << kTruth[i] + t * (kTodaysMode[i] - kTruth[i]);
+    for (size_t i = 0; i < std::size(kNames); ++i) text << (i ? ", " : "") << '"' << kNames[i] << "\": " << psi[i];
     text << "}";
-    const fs::path file = dir_ / ("at_" + std::to_string(int(std::lround(t * 100))) + ".json");
+    const fs::path file = dir_ / ("at_" + std::to_string(written_++) + ".json");
     test::WriteText(file, text.str());
     return file;
   }
-
-  // The truth with parameter `name` at `value`, written as an --at file.
+  // truth + t (today's mode − truth).
+  fs::path OnTheWayToTodaysMode(double t) const {
+    std::vector<double> psi(std::size(kNames));
+    for (size_t i = 0; i < psi.size(); ++i) psi[i] = kTruth[i] + t * (kTodaysMode[i] - kTruth[i]);
+    return WriteAt(psi);
+  }
+  // The truth with parameter `name` at `value`.
   fs::path AtTheTruthWith(const std::string& name, double value) const {
-    std::ostringstream text;
-    text << std::setprecision(17) << "{";
-    for (size_t i = 0; i < std::size(kNames); ++i)
-      text << (i ? ", " : "") << '"' << kNames[i] << "\": " << (kNames[i] == name ? value : kTruth[i]);
-    text << "}";
-    const fs::path file = dir_ / ("at_" + name + "_" + std::to_string(value) + ".json");
-    test::WriteText(file, text.str());
-    return file;
+    std::vector<double> psi(std::begin(kTruth), std::end(kTruth));
+    for (size_t i = 0; i < psi.size(); ++i)
+      if (kNames[i] == name) psi[i] = value;
+    return WriteAt(psi);
   }
 
   Evaluation At(const fs::path& at) const { return EvaluateAt(Options(at), device()).evaluation; }
@@ -157,6 +167,7 @@ class EdgeBias : public test::GpuTest {
   }
 
   test::TempDir dir_;
+  mutable int written_ = 0;  // --at files written
 };
 
 TEST_F(EdgeBias, TodaysModeShrinksTheOverhangAndTheOcclusionPriorPaysForIt) {
@@ -200,6 +211,21 @@ TEST_F(EdgeBias, DISABLED_TheTruthIsTheBestOnTheLineToTodaysMode) {
   EXPECT_EQ(best_t, 0.0);
 }
 
+// Fails today: with the ridge slid back (the house deeper, its ridge higher, the pitch kept)
+// the likelihood peaks at s = +0.075 (d +8 %), and at +0.175 where the chimneys are left out of
+// the photographs too.
+TEST_F(EdgeBias, DISABLED_TheTruthIsTheBestWithTheRidgeSlidBack) {
+  double best_s = 0.0, best = -1e300;
+  for (int k = -4; k <= 8; ++k) {
+    const double s = 0.025 * k;
+    const Evaluation e = At(WriteAt(RidgeSlidBack(s)));
+    std::printf("  s %+.3f: total %.1f (photo-consistency %.1f, occlusion prior %.1f)\n", s, e.total(),
+                e.log_likelihood, e.log_occlusion_prior);
+    if (e.total() > best) best = e.total(), best_s = s;
+  }
+  EXPECT_EQ(best_s, 0.0);
+}
+
 // What pays for today's mode is the occlusion prior's charge for texels one view sees: without
 // it (unverified_penalty 0, the colour correction fitted at the truth for both) the truth
 // beats the ridge slid 7.5 % back and the overhang halved, and today's mode keeps under a
@@ -208,8 +234,8 @@ TEST_F(EdgeBias, WithoutTheChargeForOneViewTexelsTheTruthBeatsTodaysMode) {
   const Scene scene = LoadScene(kAsset / "scene.json", Options(kAsset / "truth.json").overrides);
   const std::vector<double> truth(std::begin(kTruth), std::end(kTruth)), mode(std::begin(kTodaysMode),
                                                                              std::end(kTodaysMode));
-  std::vector<double> ridge = truth, halved = truth;
-  ridge[4] = 2 * ((kTruth[4] / 2 + kTruth[7]) * 1.075 - kTruth[7]), ridge[6] = kTruth[6] * 1.075;
+  const std::vector<double> ridge = RidgeSlidBack(0.075);
+  std::vector<double> halved = truth;
   halved[7] = kTruth[7] / 2;
   const std::vector<std::vector<double>> batch = {truth, mode, ridge, halved};
   auto evaluate = [&](double penalty) {
