@@ -258,9 +258,9 @@ TEST_F(EdgeBias, WithoutTheChargeForOneViewTexelsTheTruthBeatsTodaysMode) {
   EXPECT_LT(free[3].total(), free[0].total()) << "without the charge the truth beats the halved overhang";
 }
 
-// The CPU edge score along the line from the truth to today's mode and along the depth, the
-// roof's height and the overhang: unlike the likelihood, it prefers the truth to today's mode,
-// and its profiles peak within a step of the truth (steps of about half a pixel at the
+// The CPU edge score along the line from the truth to today's mode, with the ridge slid back,
+// and along the depth, the roof's height and the overhang: unlike the likelihood, it prefers
+// the truth to today's mode, and its profiles peak within a step of the truth (steps of about half a pixel at the
 // photographs' 160 × 120).
 TEST_F(EdgeBias, TheEdgeScorePrefersTheTruthToTodaysMode) {
   auto best_of = [&](const std::vector<std::pair<double, fs::path>>& points, const char* what) {
@@ -275,6 +275,9 @@ TEST_F(EdgeBias, TheEdgeScorePrefersTheTruthToTodaysMode) {
   std::vector<std::pair<double, fs::path>> line;
   for (const double t : {-0.5, -0.25, 0.0, 0.25, 0.5, 0.75, 1.0, 1.25}) line.emplace_back(t, OnTheWayToTodaysMode(t));
   EXPECT_EQ(best_of(line, "t"), 0.0);
+  std::vector<std::pair<double, fs::path>> ridge;
+  for (int k = -4; k <= 8; ++k) ridge.emplace_back(0.025 * k, WriteAt(RidgeSlidBack(0.025 * k)));
+  EXPECT_EQ(best_of(ridge, "ridge s"), 0.0);
   // name, truth, step: sweeps of ± 4 steps.
   const std::tuple<const char*, double, double> sweeps[] = {{"d", 0.8, 0.01}, {"rh", 0.35, 0.005}, {"e", 0.04, 0.005}};
   for (const auto& [name, truth, step] : sweeps) {
