@@ -260,8 +260,8 @@ TEST_F(EdgeBias, WithoutTheChargeForOneViewTexelsTheTruthBeatsTodaysMode) {
 
 // The CPU edge score along the line from the truth to today's mode, with the ridge slid back,
 // and along the depth, the roof's height and the overhang: unlike the likelihood, it prefers
-// the truth to today's mode, and its profiles peak within a step of the truth (steps of about half a pixel at the
-// photographs' 160 × 120).
+// the truth to today's mode and to the ridge slid back, and its profiles peak within a step of
+// the truth (steps of about half a pixel in the photographs' 160 × 120).
 TEST_F(EdgeBias, TheEdgeScorePrefersTheTruthToTodaysMode) {
   auto best_of = [&](const std::vector<std::pair<double, fs::path>>& points, const char* what) {
     double best_value = 0.0, best = -1.0;
