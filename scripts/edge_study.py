@@ -65,8 +65,8 @@ def main():
         used = json.load(open(os.path.join(ASSET, synth)))["parameters"]
         with open(os.path.join(out, "at_synth.json"), "w") as f:
             json.dump({k: v for k, v in json.load(open(truth_path)).items() if k in used}, f)
-        run([a.vkrecon, "synth", os.path.join(ASSET, synth), "--at", os.path.join(out, "at_synth.json"), "--scale", "0.25",
-             "--noise", "8", "--seed", a.seed, "--set", "cameras=" + os.path.join(ASSET, cameras), "-o", out])
+        run([a.vkrecon, "synth", os.path.join(ASSET, synth), "--at", os.path.join(out, "at_synth.json"),
+             "--scale", "0.25", "--noise", "8", "--seed", a.seed, "--set", "cameras=" + os.path.join(ASSET, cameras), "-o", out])
         common = ["--set", "cameras=" + os.path.join(out, "cameras.json"), "--set", "images=" + out,
                   "--set", "likelihood.sigma=" + a.sigma]
         scene = os.path.join(ASSET, "scene.json")
