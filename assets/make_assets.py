@@ -2,7 +2,7 @@
 """Writes the bundled example scenes: scene.json, truth.json, cameras.json and albedo
 textures for `box`, `house`, `stairs` and `poster` (after the thesis's experiments), and
 `focal`, the box with camera parameters estimated too (§4.5.3). The clutter assets,
-`house_annex` and `crate_clutter`, also get synth.json: the *true* scene `vkrecon synth`
+`house_annex`, `crate_clutter` and `house_cloth`, also get synth.json: the *true* scene `vkrecon synth`
 photographs (lit by a sun, exposure differing between cameras, with structure that
 scene.json, the model reconstructed with, leaves out).
 
@@ -16,6 +16,7 @@ import json
 import math
 import os
 import random
+import re
 import struct
 import zlib
 
@@ -319,6 +320,7 @@ def main():
         dict(ground_tex, **{"box.png": lambda p: texture(p, 2, (0.7, 0.35, 0.25))}))
 
     clutter_assets(ground_tex)
+    edge_assets()
 
 
 def clutter_assets(ground_tex):
@@ -406,6 +408,123 @@ def clutter_assets(ground_tex):
         synth_scene={"parameters": box_parameters(), "nodes": [GROUND, BOX_NODE] + clutter,
                      "synth": dict(PHOTO)},
         meshes={"ball.glb": write_sphere_glb})
+
+
+def plain_texture(path, top, bottom, size=16):
+    """A plain cloth or sky: colour `top` at the top row shading smoothly to `bottom`."""
+    rows = []
+    for y in range(size):
+        t = y / (size - 1)
+        c = tuple(int(round(255 * (a + (b - a) * t))) for a, b in zip(top, bottom))
+        rows.append([c] * size)
+    write_png(path, size, size, rows)
+
+
+def edge_assets():
+    """house_cloth: a house photographed in front of a plain grey cloth, the set-up of a
+    model building on a table in a studio. Surface the model grows out over a plain
+    background is seen alike by every camera, so photo-consistency cannot charge for it;
+    only the silhouette's edges say where the house ends (docs/internals/DECISIONS.md,
+    2026-11-27). The model (scene.json) has walls, a roof overhanging them by e and a lower
+    wing at the +x end; the photographs (synth.json) also show two chimneys on the ridge.
+    The house hangs from its front wall (y is the front wall's position), so that d grows
+    the house away from the cameras, as the bias on real photographs does.
+
+    Variants switch one cause of the bias off each: synth_textured_cloth.json (the cloth
+    printed with texture: not plain), synth_no_chimneys.json, synth_no_overhang.json with
+    truth_no_overhang.json (walls flush with the roof, e = 0), cameras_dense.json (six more
+    cameras high above, so the roof's back and sides are seen by two views or more), and
+    synth_sky.json (no cloth: a plain sky and a plain field beyond the ground);
+    synth_clean.json switches the three of the truth off at once. Others make the scene
+    plainer still: synth_plain_walls.json paints walls and wing a plain colour, as a model
+    building's often are, synth_cloth_floor.json lays the cloth over the table the house
+    stands on, synth_cloth_floor_plain_walls.json does both."""
+    params = {"x": uniform(-0.4, 0.4), "y": uniform(-0.6, 0.1), "yaw": uniform(-30, 30),
+              "w": uniform(0.6, 1.4), "d": uniform(0.5, 1.2), "h": uniform(0.3, 0.8),
+              "rh": uniform(0.1, 0.6), "e": uniform(0.0, 0.1),
+              "wl": uniform(0.2, 0.7), "wh": uniform(0.15, 0.45)}
+    truth = {"x": 0.0, "y": -0.25, "yaw": 8.0, "w": 1.0, "d": 0.8, "h": 0.5, "rh": 0.35, "e": 0.04,
+             "wl": 0.45, "wh": 0.32}
+    # The ground stops at the cloth (y = 1.2): behind it no camera sees.
+    ground = {"name": "ground", "primitive": "plane", "albedo": "textures/ground.png",
+              "transforms": [{"translate": [0, -0.65, 0]}, {"scale": [5, 3.7, 1]}]}
+    frame = {"name": "house", "transforms": [{"translate": ["x", "y", 0]}, {"rotate": [0, 0, "yaw"]}]}
+    walls = {"name": "walls", "parent": "house", "primitive": "box", "albedo": "textures/walls.png",
+             "transforms": [{"translate": [0, "d/2", 0]}, {"scale": ["w", "d", "h"]}]}
+    roof = {"name": "roof", "parent": "house", "primitive": "prism", "albedo": "textures/roof.png",
+            "transforms": [{"translate": [0, "d/2", "h"]}, {"scale": ["w + 2*e", "d + 2*e", "rh"]}]}
+    wing = {"name": "wing", "parent": "house", "primitive": "box", "albedo": "textures/wing.png",
+            "transforms": [{"translate": ["w/2 + wl/2", "0.3*d", 0]}, {"scale": ["wl", "0.6*d", "wh"]}]}
+    wing_roof = {"name": "wing_roof", "parent": "house", "primitive": "prism", "albedo": "textures/roof.png",
+                 "transforms": [{"translate": ["w/2 + (wl + e)/2", "0.3*d", "wh"]},
+                                {"scale": ["wl + e", "0.6*d + 2*e", 0.12]}]}
+    house = [ground, frame, walls, roof, wing, wing_roof]
+    chimneys = [{"name": "chimney%d" % k, "parent": "house", "primitive": "box", "albedo": "textures/chimney.png",
+                 "transforms": [{"translate": [along, "d/2", "h"]}, {"scale": [0.1, 0.1, "rh + 0.14"]}]}
+                for k, along in enumerate((-0.3, 0.28))]
+    cloth = {"name": "cloth", "primitive": "box", "albedo": "textures/cloth.png",
+             "transforms": [{"translate": [0, 1.21, 0]}, {"scale": [24, 0.02, 4]}]}
+    printed = dict(cloth, albedo="textures/cloth_printed.png")
+    # No cloth: a plain sky far behind and a plain field around the ground (2 mm below it).
+    sky = [{"name": "sky", "primitive": "box", "albedo": "textures/sky.png",
+            "transforms": [{"translate": [0, 9, 0]}, {"scale": [24, 0.02, 12]}]},
+           {"name": "field", "primitive": "plane", "albedo": "textures/field.png",
+            "transforms": [{"translate": [0, 3, -0.002]}, {"scale": [24, 12, 1]}]}]
+    # A sun behind the cameras, high: the house's shadow falls behind it, mostly out of view.
+    photo = dict(PHOTO, sun=[250, 55], ambient=0.35)
+    flush = [dict(n, transforms=[t if "scale" not in t else
+                                 {"scale": [c.replace(" + 2*e", "").replace(" + e", "") if isinstance(c, str) else c
+                                            for c in t["scale"]]}
+                                 for t in n["transforms"]])
+             if n["name"] in ("roof", "wing_roof") else n for n in house]
+    flush = [dict(n, transforms=[{"translate": ["w/2 + wl/2", "0.3*d", "wh"]}, n["transforms"][1]])
+             if n["name"] == "wing_roof" else n for n in flush]
+
+    def synth(nodes):  # the overhang's parameter only where a roof uses it
+        used = {k: v for k, v in params.items() if k != "e" or any(re.search(r"\be\b", str(t)) for n in nodes
+                                                                            for t in n["transforms"])}
+        return {"parameters": used, "nodes": nodes, "synth": photo}
+
+    plain_walls = [dict(n, albedo="textures/plaster.png") if n["name"] in ("walls", "wing") else n for n in house]
+    # The cloth laid over the table too: the ground the model stands on is as plain as the backdrop.
+    on_cloth = lambda nodes: [dict(n, albedo="textures/cloth_floor.png") if n["name"] == "ground" else n for n in nodes]
+    cameras = ring(6, 2.5, 1.15, [0.2, 0.1, 0.35], start_deg=210, span_deg=120, jitter=0.1, seed=21)
+    high = ring(6, 2.2, 3.2, [0.2, 0.2, 0.4], start_deg=210, span_deg=120, jitter=0.1, seed=22)
+    for k, cam in enumerate(high):
+        cam["name"], cam["image"] = "cam%d" % (k + 6), "cam%d.png" % (k + 6)
+    small = lambda seed, base: (lambda p: texture(p, seed, base, size=64))
+    write_asset("house_cloth", {
+        "parameters": params,
+        "nodes": house,
+        "likelihood": dict(LIKELIHOOD),
+        "sampler": dict(SAMPLER),
+    }, truth, cameras,
+        {"ground.png": lambda p: texture(p, 1, (0.45, 0.42, 0.35)),
+         "walls.png": small(3, (0.8, 0.75, 0.6)),
+         "roof.png": small(4, (0.55, 0.2, 0.15)),
+         "wing.png": small(13, (0.72, 0.7, 0.62)),
+         "chimney.png": small(14, (0.6, 0.3, 0.22)),
+         "cloth.png": lambda p: plain_texture(p, (0.62, 0.62, 0.6), (0.5, 0.5, 0.49)),
+         "cloth_printed.png": small(17, (0.56, 0.56, 0.55)),
+         "sky.png": lambda p: plain_texture(p, (0.62, 0.7, 0.82), (0.78, 0.82, 0.86)),
+         "field.png": lambda p: plain_texture(p, (0.5, 0.52, 0.42), (0.5, 0.52, 0.42)),
+         "plaster.png": lambda p: plain_texture(p, (0.86, 0.83, 0.74), (0.86, 0.83, 0.74)),
+         "cloth_floor.png": lambda p: plain_texture(p, (0.5, 0.5, 0.49), (0.56, 0.56, 0.55))},
+        synth_scene=synth(house + chimneys + [cloth]),
+        variants={"synth_textured_cloth.json": synth(house + chimneys + [printed]),
+                  "synth_no_chimneys.json": synth(house + [cloth]),
+                  "synth_no_overhang.json": synth(flush + chimneys + [cloth]),
+                  "synth_sky.json": synth(house + chimneys + sky),
+                  "synth_clean.json": synth(flush + [printed]),
+                  "synth_plain_walls.json": synth(plain_walls + chimneys + [cloth]),
+                  "synth_cloth_floor.json": synth(on_cloth(house) + chimneys + [cloth]),
+                  "synth_cloth_floor_plain_walls.json": synth(on_cloth(plain_walls) + chimneys + [cloth])})
+    folder = os.path.join(HERE, "house_cloth")
+    for file, body in (("truth_no_overhang.json", dict(truth, e=0.0)),
+                       ("cameras_dense.json", {"cameras": cameras + high})):
+        with open(os.path.join(folder, file), "w") as f:
+            json.dump(body, f, indent=2)
+            f.write("\n")
 
 
 if __name__ == "__main__":

@@ -4,10 +4,11 @@
 
 namespace vkr::test {
 
-void SynthesiseAssetImages(vk::Device& device, const std::string& asset, double noise, const TempDir& dir) {
+void SynthesiseAssetImages(vk::Device& device, const std::string& asset, double noise, const TempDir& dir,
+                           const std::string& scene) {
   const std::filesystem::path root = std::filesystem::path(VKRECON_SOURCE_DIR) / "assets" / asset;
   SynthOptions synth;
-  synth.scene_file = root / "scene.json";
+  synth.scene_file = root / scene;
   synth.at_file = root / "truth.json";
   synth.output_dir = dir.path();
   synth.noise_sigma = noise;

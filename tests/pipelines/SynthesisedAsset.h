@@ -13,8 +13,10 @@ namespace vkr::test {
 
 // Reference images of an asset at its truth, quarter size (160×120-class), noise sd `noise`
 // on the 0–255 scale, seed 7, into `dir`, with synth's cameras.json (K and pose folded at
-// the truth).
-void SynthesiseAssetImages(vk::Device& device, const std::string& asset, double noise, const TempDir& dir);
+// the truth). `scene` names the asset's file photographed: synth.json for the assets whose
+// photographs show more than the model.
+void SynthesiseAssetImages(vk::Device& device, const std::string& asset, double noise, const TempDir& dir,
+                           const std::string& scene = "scene.json");
 
 // The same images, and the asset loaded as a scene reading them; `truth` receives the
 // asset's truth.json.
