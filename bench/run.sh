@@ -47,6 +47,11 @@ python3 bench/report.py "$json" >bench/RESULTS.md
 python=/usr/bin/python3
 [ -x "$python" ] || python=python3
 if [ -f bench/peers.json ]; then "$python" bench/peers_report.py bench/peers.json; fi
+# So does the Sampler section (bench/sampler.sh's rows, kept in bench/sampler.md): its
+# default runs take minutes each.
+if [ -f bench/sampler.md ]; then
+  { echo; echo "<!-- sampler -->"; cat bench/sampler.md; echo "<!-- /sampler -->"; } >>bench/RESULTS.md
+fi
 # So do the GPU sections, measured on lent machines (scripts/device_check.sh).
 for d in bench/gpu/*/; do
   if [ -f "$d/machine.txt" ]; then python3 bench/device_report.py "$d"; fi

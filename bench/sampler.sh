@@ -35,7 +35,7 @@ s["sampler"] = {"seed": int(sys.argv[3])}
 json.dump(s, open(sys.argv[2], "w"), indent=2)' "assets/$name/scene.json" "$scene" "$seed"
     "$vk" synth "assets/$name/scene.json" --at "assets/$name/truth.json" --noise "$sigma" --seed "$seed" -q -o "$images"
     # Alternating the two samplers, legacy first.
-    for kind in legacy today; do
+    for kind in ${SAMPLER_BENCH_KINDS:-legacy today}; do
       args=()
       [ "$kind" = legacy ] && args=("${legacy[@]}")
       start=$SECONDS
