@@ -224,8 +224,11 @@ void BindReconstruct(py::module_& m) {
                              "D x P posterior draws (every chain from its burn-in on), in parameter_names' order")
       .def_property_readonly("draw_chains", [](const ReconstructSummary& s) { return py::object(Draws(s)[1]); },
                              "the chain of each row of draws")
-      .def_property_readonly("verdict", [](const ReconstructSummary& s) { return vkr::recon::ToString(s.diagnosis.verdict); })
-      .def_property_readonly("ok", [](const ReconstructSummary& s) { return s.diagnosis.ok(); })
+      // A stopped run has no diagnosis: verdict None, not ok.
+      .def_property_readonly("verdict", [](const ReconstructSummary& s) -> py::object {
+        return s.completed() ? py::str(vkr::recon::ToString(s.diagnosis.verdict)) : py::object(py::none());
+      })
+      .def_property_readonly("ok", [](const ReconstructSummary& s) { return s.completed() && s.diagnosis.ok(); })
       .def_property_readonly("notes", [](const ReconstructSummary& s) { return s.diagnosis.notes; })
       .def_property_readonly("output_dir", [](const ReconstructSummary& s) { return s.output_dir; })
       .def_property_readonly("written", [](const ReconstructSummary& s) { return s.written; })

@@ -2,7 +2,10 @@
 
 import json
 import os
+import signal
 import subprocess
+import threading
+import time
 
 import numpy as np
 import pytest
@@ -196,3 +199,20 @@ def test_a_run_that_cannot_start_raises_the_command_lines_line(box, tmp_path):
     cli = subprocess.run(args, capture_output=True, text=True)
     assert cli.returncode == 2
     assert cli.stderr.strip() == f"vkrecon run: {raised.value}"
+
+
+def test_ctrl_c_checkpoints_the_run_and_raises(box, tmp_path):
+    scene = vkrecon.Scene.load(os.path.join(BOX, "scene.json"), set=box + ["sampler.iterations=400"])
+    out = tmp_path / "run"
+
+    def interrupt():  # once the run has a checkpoint to continue from
+        while not (out / "checkpoint.json").exists():
+            time.sleep(0.05)
+        os.kill(os.getpid(), signal.SIGINT)
+
+    thread = threading.Thread(target=interrupt)
+    thread.start()
+    with pytest.raises(KeyboardInterrupt):
+        vkrecon.reconstruct(scene, out, checkpoint_seconds=0.05)
+    thread.join()
+    assert (out / "checkpoint.json").exists() and not (out / "map.json").exists()
