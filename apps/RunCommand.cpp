@@ -1,11 +1,8 @@
 #include <unistd.h>
 
-#include <chrono>
-#include <cmath>
+#include <atomic>
 #include <csignal>
 #include <cstdlib>
-#include <cstring>
-#include <fstream>
 #include <iostream>
 
 #include "apps/Commands.h"
@@ -13,14 +10,19 @@
 #include "recon/Ranks.h"
 #include "recon/Reconstruct.h"
 #include "recon/SceneList.h"
+#include "recon/SearchSetup.h"
 
 namespace vkr::app {
 
 using recon::Ranks;
 using recon::ReconstructOptions;
-using recon::ReconstructResult;
+using recon::ReconstructSummary;
 
 namespace {
+
+// Set by SIGINT; the run's should_stop reads it, checkpoints and stops after the frame.
+std::atomic<bool> g_interrupted{false};
+void Interrupt(int) { g_interrupted = true; }
 
 // Under MPI without --device or VKRECON_DEVICE: the node's GPUs shared out by local rank
 // (rank i on a node takes its GPU i mod GPUs); with no GPU, the default (lavapipe).
@@ -44,11 +46,9 @@ void OnTerminate(int signal) {
   std::raise(signal);
 }
 
-int RunMany(const ReconstructOptions& options, const SceneArgs& args, const std::string& out);
-
 // The exit status and the closing lines of rank 0 (or the one process).
 int FinishRun(const ReconstructOptions& options, const std::string& scene, const std::string& out,
-           const ReconstructResult& result, const vk::Device& device, const std::string& resume_command = "");
+              const ReconstructSummary& summary, const vk::Device& device, const std::string& resume_command = "");
 
 }  // namespace
 
@@ -84,31 +84,42 @@ int RunRun(int argc, char** argv) {
   app.add_option("--temperatures", options.temperatures,
                  "tempered replicas per chain (default sampler.batch / sampler.chains)");
   if (auto status = Parse(app, argc, argv)) return *status;
-  options.scene_file = scene.scene;
-  options.overrides = ParseOverrides(scene.sets);
+  const std::vector<SceneOverride> overrides = ParseOverrides(scene.sets);
   options.output_dir = out;
-  if (recon::IsSceneList(scene.scene)) return RunMany(options, scene, out);
+  options.should_stop = [] { return g_interrupted.load(); };
   const Ranks& ranks = Ranks::World();
+  options.ranks = &ranks;
+  if (recon::IsSceneList(scene.scene)) {
+    const std::vector<recon::ListedScene> scenes = recon::ReadSceneList(scene.scene);
+    auto device = OpenDevice(RankDevice(scene.device, ranks));
+    std::signal(SIGINT, Interrupt);
+    return FinishWithDevice(*device, recon::ReconstructList(scenes, overrides, options, ranks, *device));
+  }
   if (!ranks.distributed()) {
     auto device = OpenDevice(scene.device);
-    std::signal(SIGINT, [](int) { recon::RequestStop(); });
-    return FinishRun(options, scene.scene, out, recon::Reconstruct(options, *device), *device);
+    options.scene = std::make_shared<const Scene>(recon::LoadSearchScene(scene.scene, overrides));
+    std::signal(SIGINT, Interrupt);
+    ReconstructSummary summary;
+    recon::Reconstruct(options, *device, &summary);
+    return FinishRun(options, scene.scene, out, summary, *device);
   }
   // One of several MPI ranks (docs/guide/SCALE_OUT.md). A rank that fails must end the whole job:
   // the others would wait for it forever in the next exchange.
   const std::string resume = "mpirun -n " + std::to_string(ranks.size()) + " vkrecon run " + scene.scene + " -o " + out + " --resume";
   try {
     auto device = OpenDevice(RankDevice(scene.device, ranks));
-    std::signal(SIGINT, [](int) { recon::RequestStop(); });
+    options.scene = std::make_shared<const Scene>(recon::LoadSearchScene(scene.scene, overrides));
+    std::signal(SIGINT, Interrupt);
     if (ranks.rank() == 0) {
       g_terminated_message = "\nvkrecon run: the MPI job was ended (a rank failed or was killed; mpirun names it): no "
                              "result was written; the last checkpoint is in " + out + "/checkpoint.json; continue with the same command and --resume: " +
                              resume + "\n";
       std::signal(SIGTERM, OnTerminate);
     }
-    const ReconstructResult result = recon::Reconstruct(options, *device);
+    ReconstructSummary summary;
+    recon::Reconstruct(options, *device, &summary);
     if (ranks.rank() != 0) return FinishWithDevice(*device, 0);
-    return FinishRun(options, scene.scene, out, result, *device, resume);
+    return FinishRun(options, scene.scene, out, summary, *device, resume);
   } catch (const InputError& e) {
     std::cerr << "vkrecon run (rank " << ranks.rank() << " of " << ranks.size() << "): " << e.what() << "\n";
     ranks.Abort(2);
@@ -122,100 +133,20 @@ int RunRun(int argc, char** argv) {
 
 namespace {
 
-// How one scene of a list ended, as a number (it travels to rank 0 as a double).
-enum class ListedOutcome { Ok, NotOk, ModelError, Interrupted, BadInput, Error };
-const char* ToString(ListedOutcome o) {
-  switch (o) {
-    case ListedOutcome::Ok: return "ok";
-    case ListedOutcome::NotOk: return "not ok (see its map.json)";
-    case ListedOutcome::ModelError: return "not trustworthy";
-    case ListedOutcome::Interrupted: return "interrupted (--resume)";
-    case ListedOutcome::BadInput: return "bad input";
-    case ListedOutcome::Error: return "error";
-  }
-  return "?";
-}
-int ExitStatus(ListedOutcome o) {
-  if (o == ListedOutcome::BadInput) return 2;
-  return o == ListedOutcome::Ok || o == ListedOutcome::NotOk ? 0 : 1;
-}
-
-// Many scenes (docs/guide/SCALE_OUT.md, "Many scenes"): scene i runs on rank i mod R as a process
-// of its own, into OUT/<name>; rank 0 gathers how each ended and prints the table (also
-// OUT/summary.csv). A scene that fails does not stop the others; the exit status is the
-// worst of theirs.
-int RunMany(const ReconstructOptions& options, const SceneArgs& args, const std::string& out) {
-  const Ranks& ranks = Ranks::World();
-  const std::vector<recon::ListedScene> scenes = recon::ReadSceneList(args.scene);
-  auto device = OpenDevice(RankDevice(args.device, ranks));
-  std::signal(SIGINT, [](int) { recon::RequestStop(); });
-  const size_t n = scenes.size();
-  std::vector<double> mine(2 * n, std::nan(""));  // per scene: outcome, seconds
-  bool stopped = false;
-  for (size_t i = 0; i < n; ++i) {
-    if (int(i % size_t(ranks.size())) != ranks.rank()) continue;
-    ListedOutcome outcome = ListedOutcome::Interrupted;
-    const auto start = std::chrono::steady_clock::now();
-    if (!stopped) {
-      ReconstructOptions one = options;
-      one.scene_file = scenes[i].file;
-      one.output_dir = std::filesystem::path(out) / scenes[i].name;
-      one.one_process = true;
-      one.quiet = options.quiet || ranks.distributed();  // one progress line per terminal
-      try {
-        const ReconstructResult r = recon::Reconstruct(one, *device);
-        if (!r.completed) stopped = true;
-        else outcome = r.failed ? ListedOutcome::ModelError : r.diagnosis_ok ? ListedOutcome::Ok : ListedOutcome::NotOk;
-        for (const std::string& note : r.notes) std::cerr << "vkrecon run: " << scenes[i].name << ": note: " << note << "\n";
-      } catch (const InputError& e) {
-        std::cerr << "vkrecon run: " << e.what() << "\n";
-        outcome = ListedOutcome::BadInput;
-      } catch (const std::exception& e) {
-        std::cerr << "vkrecon run: " << scenes[i].name << ": error: " << e.what() << "\n";
-        outcome = ListedOutcome::Error;
-      }
-    }
-    mine[2 * i] = double(outcome);
-    mine[2 * i + 1] = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  }
-  const std::vector<double> all = ranks.GatherToRoot(mine);
-  if (ranks.rank() != 0) return FinishWithDevice(*device, 0);
-
-  int worst = 0;
-  std::filesystem::create_directories(out);
-  std::ofstream csv(std::filesystem::path(out) / "summary.csv");
-  csv << "scene,file,rank,exit_status,verdict,seconds,output\n";
-  std::cerr << "vkrecon run: " << n << " scene(s) on " << ranks.size() << " rank(s):\n";
-  for (size_t i = 0; i < n; ++i) {
-    const size_t owner = i % size_t(ranks.size());
-    const auto outcome = ListedOutcome(int(all[owner * 2 * n + 2 * i]));
-    const double seconds = all[owner * 2 * n + 2 * i + 1];
-    const std::string folder = (std::filesystem::path(out) / scenes[i].name).string();
-    worst = std::max(worst, ExitStatus(outcome));
-    char line[512];
-    std::snprintf(line, sizeof line, "  %-20s rank %-3zu exit %d  %7.1f s  %-26s %s\n", scenes[i].name.c_str(), owner,
-                  ExitStatus(outcome), seconds, ToString(outcome), folder.c_str());
-    std::cerr << line;
-    csv << scenes[i].name << "," << scenes[i].file.string() << "," << owner << "," << ExitStatus(outcome) << ","
-        << ToString(outcome) << "," << seconds << "," << folder << "\n";
-  }
-  return FinishWithDevice(*device, worst);
-}
-
 int FinishRun(const ReconstructOptions& options, const std::string& scene, const std::string& out,
-           const ReconstructResult& result, const vk::Device& device, const std::string& resume_command) {
-  if (!result.completed) {
+              const ReconstructSummary& summary, const vk::Device& device, const std::string& resume_command) {
+  if (!summary.completed()) {
     std::cerr << "vkrecon run: interrupted; continue with: "
               << (resume_command.empty() ? "vkrecon run " + scene + " -o " + out + " --resume" : resume_command) << "\n";
     return FinishWithDevice(device, 1);
   }
-  for (const std::string& note : result.notes) std::cerr << "vkrecon run: note: " << note << "\n";
+  for (const std::string& note : summary.diagnosis.notes) std::cerr << "vkrecon run: note: " << note << "\n";
   if (!options.quiet) std::cerr << "vkrecon run: wrote " << out << "/ (report.html, map.json, chain.csv, composite.exr, model.glb, reprojections/, overlays/)\n";
-  if (result.failed) {
+  if (summary.failed()) {
     std::cerr << "vkrecon run: error: the result is not trustworthy (see the notes above and map.json's diagnosis)\n";
     return FinishWithDevice(device, 1);
   }
-  if (!result.diagnosis_ok)
+  if (!summary.diagnosis.ok())
     std::cerr << "vkrecon run: warning: the diagnosis is not ok (see the notes above and map.json's diagnosis): "
                  "read the intervals with care\n";
   return FinishWithDevice(device, 0);

@@ -1,21 +1,29 @@
-// `import vkrecon`: scenes, the likelihood on a numpy batch, and the `--at` format, through
-// the same library calls the command line makes (docs/guide/PYTHON.md). The GIL is released
-// while the GPU works; bad input raises vkrecon.InputError with the command line's one line.
+// `import vkrecon`: scenes, the likelihood on a numpy batch, the `--at` format, a whole
+// reconstruction and rendered views, through the same library calls the command line makes
+// (docs/guide/PYTHON.md). The GIL is released while the GPU works; bad input raises
+// vkrecon.InputError with the command line's one line.
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 #include <pybind11/stl/filesystem.h>
 
+#include <algorithm>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "engine/common/InputError.h"
 #include "engine/geometry/AtlasFootprint.h"
+#include "engine/geometry/SceneGeometry.h"
+#include "engine/image/Image.h"
 #include "engine/scene/Scene.h"
 #include "engine/vk/Device.h"
 #include "pipelines/likelihood/LikelihoodTool.h"
+#include "pipelines/rendering/ViewRendering.h"
+#include "recon/Reconstruct.h"
+#include "recon/SearchSetup.h"
 
 namespace py = pybind11;
 
@@ -104,10 +112,150 @@ PyLikelihood MakeLikelihood(std::shared_ptr<vkr::Scene> scene, int batch, int le
   return l;
 }
 
+// An image as an H × W × 4 float32 array (RGBA), copied.
+py::array_t<float> ImageArray(const vkr::Image& image) {
+  py::array_t<float> a(std::vector<py::ssize_t>{py::ssize_t(image.height), py::ssize_t(image.width), 4});
+  std::copy(image.rgba.begin(), image.rgba.end(), a.mutable_data());
+  return a;
+}
+
+// One camera of the scene at `at` (default: its initial values), as `vkrecon render --camera`
+// renders it: textured by `texture` (a run's composite.exr) or the albedo baked into an atlas.
+py::array_t<float> Render(const vkr::Scene& scene, std::optional<py::array_t<double, py::array::c_style | py::array::forcecast>> at,
+                          std::optional<std::string> camera, std::optional<std::filesystem::path> texture,
+                          double scale, int atlas_side) {
+  const std::vector<double> psi = at ? Row(scene, *at) : scene.InitialValues();
+  if (scene.cameras.empty()) throw py::value_error("the scene has no camera");
+  const std::string name = camera.value_or(scene.cameras.front().name);
+  vkr::Image image;
+  {
+    py::gil_scoped_release release;
+    std::vector<vkr::Camera> views;
+    for (const vkr::Camera& c : scene.Cameras(psi))
+      if (c.name == name) views.push_back(vkr::ScaleCamera(c, scale));
+    if (views.empty()) throw vkr::InputError(scene.file.string(), "cameras", "no camera named '" + name + "'");
+    vkr::Image atlas;
+    if (texture) atlas = vkr::LoadImage(*texture);
+    // The same layout as the run that made the texture: decided at the initial values.
+    const vkr::SceneGeometry geometry =
+        vkr::BuildSceneGeometry(scene, scene.InitialValues(), texture ? atlas.width : atlas_side);
+    if (!texture) atlas = vkr::BakeAlbedoAtlas(geometry.atlas, geometry.meshes, vkr::LoadAlbedos(scene));
+    image = vkr::RenderWithAtlas(*SharedDevice(), scene, psi, geometry, atlas, views).front();
+  }
+  return ImageArray(image);
+}
+
+// A run of `vkrecon run` on a loaded scene (its sampler block says how long). Ctrl-C
+// checkpoints the run, then raises KeyboardInterrupt; `resume=True` continues it.
+vkr::recon::ReconstructSummary Reconstruct(std::shared_ptr<vkr::Scene> scene, const std::filesystem::path& output_dir,
+                                           bool resume, double time_limit, int temperatures,
+                                           double checkpoint_seconds, bool quiet) {
+  vkr::recon::ReconstructOptions options;
+  options.scene = scene;
+  options.output_dir = output_dir;
+  options.resume = resume;
+  options.time_limit = time_limit;
+  options.temperatures = temperatures;
+  options.checkpoint_seconds = checkpoint_seconds;
+  options.quiet = quiet;
+  std::optional<py::error_already_set> interrupted;
+  options.should_stop = [&] {
+    py::gil_scoped_acquire acquire;
+    if (!interrupted && PyErr_CheckSignals() != 0) interrupted.emplace();  // takes the KeyboardInterrupt
+    return interrupted.has_value();
+  };
+  vkr::recon::ReconstructSummary summary;
+  {
+    py::gil_scoped_release release;
+    vkr::recon::Reconstruct(options, *SharedDevice(), &summary);
+  }
+  if (interrupted) throw std::move(*interrupted);
+  return summary;
+}
+
+py::object JsonToPython(const nlohmann::json& j) { return py::module_::import("json").attr("loads")(j.dump()); }
+
+// The parameter table: one dict per parameter, in the scene's order.
+py::list ParameterTable(const vkr::recon::ReconstructSummary& s) {
+  py::list rows;
+  for (const vkr::opt::ParameterSummary& p : s.sampler.parameters) {
+    py::dict row;
+    row["name"] = p.name;
+    row["map"] = p.map;
+    row["mean"] = p.mean;
+    row["sd"] = p.sd;
+    row["q025"] = p.q025;
+    row["q975"] = p.q975;
+    row["ess"] = p.ess;
+    row["rhat"] = p.rhat;
+    rows.append(row);
+  }
+  return rows;
+}
+
+// The posterior draws (PosteriorDraws): D × P values, and each draw's chain.
+py::tuple Draws(const vkr::recon::ReconstructSummary& s) {
+  const std::vector<const vkr::opt::Sample*> rows = vkr::recon::PosteriorDraws(s.sampler);
+  const py::ssize_t p = py::ssize_t(s.sampler.parameters.size());
+  py::array_t<double> draws(std::vector<py::ssize_t>{py::ssize_t(rows.size()), p});  // a shape, not (count, data)
+  py::array_t<int> chain(py::ssize_t(rows.size()));
+  for (size_t d = 0; d < rows.size(); ++d) {
+    std::copy(rows[d]->psi.begin(), rows[d]->psi.end(), draws.mutable_data(py::ssize_t(d), 0));
+    chain.mutable_at(py::ssize_t(d)) = rows[d]->chain;
+  }
+  return py::make_tuple(draws, chain);
+}
+
+void BindReconstruct(py::module_& m) {
+  using vkr::recon::ReconstructSummary;
+  py::class_<ReconstructSummary>(m, "ReconstructSummary",
+                                 "What a reconstruction found: map.json's content, and the draws.")
+      .def_property_readonly("termination", [](const ReconstructSummary& s) { return vkr::opt::ToString(s.termination); })
+      .def_property_readonly("completed", &ReconstructSummary::completed)
+      .def_property_readonly("parameters", &ParameterTable)
+      .def_property_readonly("parameter_names", [](const ReconstructSummary& s) {
+        std::vector<std::string> names;
+        for (const auto& p : s.sampler.parameters) names.push_back(p.name);
+        return names;
+      })
+      .def_property_readonly("map", [](const ReconstructSummary& s) { return py::array(py::cast(s.map())); })
+      .def_property_readonly("log_posterior", [](const ReconstructSummary& s) { return s.sampler.map_log_posterior; })
+      .def_property_readonly("draws", [](const ReconstructSummary& s) { return py::object(Draws(s)[0]); },
+                             "D x P posterior draws (every chain from its burn-in on), in parameter_names' order")
+      .def_property_readonly("draw_chains", [](const ReconstructSummary& s) { return py::object(Draws(s)[1]); },
+                             "the chain of each row of draws")
+      // A stopped run has no diagnosis: verdict None, not ok.
+      .def_property_readonly("verdict", [](const ReconstructSummary& s) -> py::object {
+        return s.completed() ? py::str(vkr::recon::ToString(s.diagnosis.verdict)) : py::object(py::none());
+      })
+      .def_property_readonly("ok", [](const ReconstructSummary& s) { return s.completed() && s.diagnosis.ok(); })
+      .def_property_readonly("notes", [](const ReconstructSummary& s) { return s.diagnosis.notes; })
+      .def_property_readonly("output_dir", [](const ReconstructSummary& s) { return s.output_dir; })
+      .def_property_readonly("written", [](const ReconstructSummary& s) { return s.written; })
+      .def("brief_report", &ReconstructSummary::BriefReport)
+      .def("full_report", &ReconstructSummary::FullReport)
+      .def("to_json", [](const ReconstructSummary& s) { return JsonToPython(s.ToJson()); },
+           "map.json's content as a dict (non-finite numbers are None)");
+
+  m.def("reconstruct", &Reconstruct, py::arg("scene"), py::arg("output_dir"), py::kw_only(),
+        py::arg("resume") = false, py::arg("time_limit") = -1.0, py::arg("temperatures") = 0,
+        py::arg("checkpoint_seconds") = 5.0, py::arg("quiet") = true,
+        "Runs `vkrecon run` on the scene into output_dir (map.json and every other output) and returns "
+        "its summary. The scene's sampler block (Scene.load(set=[\"sampler.iterations=200\"])) says how "
+        "long; time_limit < 0: sampler.time_limit. Ctrl-C checkpoints, then raises KeyboardInterrupt.");
+  m.def("render", &Render, py::arg("scene"), py::arg("at") = py::none(), py::arg("camera") = py::none(),
+        py::arg("texture") = py::none(), py::arg("scale") = 1.0, py::arg("atlas") = 2048,
+        "One scene camera's view at `at` (default: the initial values) as an H x W x 4 float32 array, as "
+        "`vkrecon render --camera` writes it: textured by `texture` (a run's composite.exr) or by the "
+        "albedo; alpha 0 off the surface.");
+  m.def("load_image", [](const std::filesystem::path& file) { return ImageArray(vkr::LoadImage(file)); },
+        py::arg("file"), "An image file (EXR, PNG, JPEG, PGM/PPM) as an H x W x 4 float32 array.");
+}
+
 }  // namespace
 
 PYBIND11_MODULE(_vkrecon, m) {
-  m.doc() = "vkrecon's library: scenes, the likelihood on a batch of hypotheses, the --at format";
+  m.doc() = "vkrecon's library: scenes, the likelihood on a batch of hypotheses, the --at format, runs, views";
   static py::exception<vkr::InputError> input_error(m, "InputError", PyExc_ValueError);
   py::register_exception_translator([](std::exception_ptr p) {
     try {
@@ -164,4 +312,5 @@ PYBIND11_MODULE(_vkrecon, m) {
            "K x P parameter values -> dict of K-arrays: total (log likelihood + occlusion prior, "
            "what `vkrecon likelihood` prints as total), log_likelihood, log_occlusion_prior, "
            "sum_squares, dof, seen_multi, seen_once.");
+  BindReconstruct(m);
 }

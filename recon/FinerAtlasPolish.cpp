@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <iostream>
 #include <limits>
+#include <optional>
 
 #include "recon/SearchSetup.h"
 #include "optimiser/Polish.h"
@@ -61,17 +62,18 @@ FinerAtlasPolish PolishAtFinerAtlas(vk::Device& device, const Scene& scene, std:
   }
   const auto start = std::chrono::steady_clock::now();
   polish.atlas = 2 * scene.likelihood.atlas;
-  // The scene read again as the run read it (a Scene holds its expressions: not copyable).
   overrides.push_back({"likelihood.atlas", std::to_string(polish.atlas)});
-  const Scene doubled = LoadSearchScene(scene.file, overrides);
   if (!quiet)
     std::cerr << "vkrecon run: polishing the MAP at a " << polish.atlas << "² atlas (at most " << evaluations
               << " evaluations)\n";
-  // After a whole run, a doubled atlas that does not fit the device (MemoryPlan.h) or any
-  // other failure here costs the polish, not the run's outputs.
+  // After a whole run, a doubled atlas that does not fit the device (MemoryPlan.h), a scene
+  // file gone since (Python's scene_from_dict) or any other failure here costs the polish,
+  // not the run's outputs.
+  std::optional<Scene> doubled;  // read again as the run read it: a Scene is not copyable
   std::unique_ptr<Likelihood> likelihood;
   try {
-    likelihood = MakeSearchLikelihood(device, doubled, 1);
+    doubled.emplace(LoadSearchScene(scene.file, overrides));
+    likelihood = MakeSearchLikelihood(device, *doubled, 1);
     polish.sigma = CalibrateNoise(*likelihood, summary.map, {}, 1.0, scene.likelihood.sigma_auto,
                                   scene.likelihood.clutter, scene.likelihood.sandwich_blocks)
                        .sigma;

@@ -16,7 +16,7 @@ class Ranks {
   // MPI launcher (Open MPI's or PMIx/PMI environment variables); MPI_Finalize runs at exit.
   static Ranks& World();
   // One rank that never touches MPI: a scene of `vkrecon run LIST` runs in one process
-  // while the job's ranks run other scenes (RunMany).
+  // while the job's ranks run other scenes (ReconstructList, SceneList.h).
   static const Ranks& One();
   // Whether this binary was built with MPI (`vkrecon run --help` and the tests ask).
   static bool Built();

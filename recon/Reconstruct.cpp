@@ -6,13 +6,14 @@
 #include "recon/FinerAtlasPolish.h"
 #include "recon/LikelihoodTarget.h"
 #include "recon/Ranks.h"
+#include "recon/RunOutputs.h"
+#include "recon/RunStages.h"
 #include "recon/SearchSetup.h"
 #include "report/Report.h"
 
 #include <unistd.h>
 
 #include <algorithm>
-#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -25,22 +26,15 @@
 #include "engine/common/InputError.h"
 #include "engine/geometry/SceneGeometry.h"
 #include "optimiser/Evidence.h"
-#include "optimiser/JsonIntegers.h"
 #include "optimiser/Polish.h"
 #include "optimiser/Sampler.h"
 #include "pipelines/likelihood/LikelihoodTool.h"
-#include "pipelines/rendering/ModelExport.h"
-#include "pipelines/likelihood/NoiseCalibration.h"
-#include "pipelines/likelihood/Residuals.h"
 #include "pipelines/likelihood/SurfaceLikelihood.h"
 
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
 
 namespace vkr::recon {
-namespace {
-
-std::atomic<bool> g_stop{false};
 
 std::string Duration(double seconds) {
   if (!std::isfinite(seconds) || seconds < 0) return "?";
@@ -50,12 +44,15 @@ std::string Duration(double seconds) {
   return buf;
 }
 
-// One progress line on stderr: redrawn in place on a terminal, every 10 % otherwise.
+namespace {
+
+// One progress line on `out` (null: none): redrawn in place on a terminal's stderr, every
+// 10 % otherwise.
 class ProgressBar {
  public:
-  explicit ProgressBar(bool quiet) : quiet_(quiet), tty_(isatty(2)), start_(Clock::now()) {}
+  explicit ProgressBar(std::ostream* out) : out_(out), tty_(out == &std::cerr && isatty(2)), start_(Clock::now()) {}
   void Update(const opt::Progress& p) {
-    if (quiet_) return;
+    if (!out_) return;
     // With "auto" iterations the schedule's count is a lower bound: the bar fills over it,
     // then the line shows how far R̂ and ESS are from their targets instead of an ETA.
     const double done = p.iterations > 0 ? std::min(1.0, double(p.iteration) / p.iterations) : 1.0;
@@ -79,14 +76,15 @@ class ProgressBar {
                   std::string(filled, '#').c_str(), std::string(width - filled, ' ').c_str(), p.iteration,
                   p.until_converged ? "auto" : std::to_string(p.iterations).c_str(), opt::ToString(p.phase), p.level,
                   p.temperature, p.best_log_posterior, p.acceptance, tail);
-    std::cerr << (tty_ ? "\r" : "") << line << (tty_ ? "" : "\n") << std::flush;
+    *out_ << (tty_ ? "\r" : "") << line << (tty_ ? "" : "\n") << std::flush;
   }
   void Finish() {
-    if (!quiet_ && tty_) std::cerr << "\n";
+    if (out_ && tty_) *out_ << "\n";
   }
 
  private:
-  bool quiet_, tty_;
+  std::ostream* out_;
+  bool tty_;
   Clock::time_point start_, last_{};
   int last_decile_ = -1;
 };
@@ -119,15 +117,9 @@ double InitialTemperature(const Scene& scene, opt::Target& target) {
   return std::clamp(std::sqrt(var) / double(scene.parameters.size()), 10.0, 1e6);
 }
 
-// The σ (0–255) the run ended with: estimated at the mode with `sigma: auto`, else the given one.
-double SigmaUsed(const Scene& scene, const opt::SamplerSummary& s) {
-  if (s.calibration.is_object() && s.calibration.contains("sigma")) return s.calibration["sigma"].get<double>();
-  return scene.likelihood.sigma;
-}
-
 // The local search before sampling (SamplerOptions::start_search), with the running MAP
 // reported as the sampler reports its own: the best at the current level.
-opt::MapSearchSummary RunStartSearch(const Scene& scene, opt::Target& target, double cost, bool quiet,
+opt::MapSearchSummary RunStartSearch(const Scene& scene, opt::Target& target, double cost, std::ostream* say,
                                      const std::function<void(const std::vector<double>&)>& on_best) {
   if (!(cost > 0.0)) return {};
   const auto start = Clock::now();
@@ -141,60 +133,12 @@ opt::MapSearchSummary RunStartSearch(const Scene& scene, opt::Target& target, do
         best = e.log_posterior;
         if (on_best) on_best(*e.psi);
       });
-  if (!quiet)
-    std::cerr << "vkrecon run: a local search (BOBYQA) from the initial values first: " << s.evaluations
+  if (say)
+    *say << "vkrecon run: a local search (BOBYQA) from the initial values first: " << s.evaluations
               << " evaluations, " << Duration(std::chrono::duration<double>(Clock::now() - start).count())
               << "; its mode competes with the chains' at the end\n";
   return s;
 }
-
-nlohmann::json StartJson(const opt::MapSearchSummary& s) {
-  return {{"method", "bobyqa"},
-          {"evaluations", s.evaluations},
-          {"cost", s.cost},
-          {"map", s.map},
-          {"log_posterior", s.map.empty() ? nlohmann::json() : nlohmann::json(s.log_posterior)},
-          {"message", s.message}};
-}
-
-opt::MapSearchSummary StartFromJson(const nlohmann::json& j) {
-  opt::MapSearchSummary s;
-  s.ok = true;
-  s.evaluations = opt::ReadInteger<int64_t>(j.at("evaluations"));
-  s.cost = j.at("cost").get<double>();
-  s.map = j.at("map").get<std::vector<double>>();
-  if (!j.at("log_posterior").is_null()) s.log_posterior = j.at("log_posterior").get<double>();
-  s.message = j.at("message").get<std::string>();
-  return s;
-}
-
-// What every stage of one run shares. Under MPI every rank runs the same stages with the same
-// sampler; rank 0 alone writes (checkpoints, clutter masks, outputs) and talks
-// (docs/guide/SCALE_OUT.md).
-struct RunContext {
-  RunContext(const ReconstructOptions& options, vk::Device& device)
-      : options(options),
-        device(device),
-        scene(LoadSearchScene(options.scene_file, options.overrides)),
-        ranks(options.one_process ? Ranks::One() : Ranks::World()),
-        root(ranks.rank() == 0),
-        quiet(options.quiet || !root),
-        checkpoint_file(options.output_dir / "checkpoint.json"),
-        start_file(options.output_dir / "start_search.json"),
-        // Per invocation: a resumed run gets the whole limit again.
-        time_limit(options.time_limit >= 0.0 ? options.time_limit : scene.sampler.TimeLimit()) {}
-
-  const ReconstructOptions& options;
-  vk::Device& device;
-  const Scene scene;
-  const Ranks& ranks;
-  const bool root, quiet;
-  const fs::path checkpoint_file;
-  // The local search before sampling (SamplerOptions::start_search), kept beside the
-  // checkpoint: a resumed run compares the same mode at the end.
-  const fs::path start_file;
-  const double time_limit;  // seconds of sampling; 0: none
-};
 
 // The scene's sampler block over the defaults, with the command line's --temperatures.
 opt::SamplerOptions SamplerOptionsFor(const RunContext& run, int levels) {
@@ -235,8 +179,8 @@ std::string ReadCheckpoint(const RunContext& run) {
     if (checkpoint_text.empty()) checkpoint_text = " ";  // empty means "none" below; parsing says what is wrong
   }
   if (run.options.resume) run.ranks.Broadcast(&checkpoint_text);
-  if (run.options.resume && checkpoint_text.empty() && run.root)
-    std::cerr << "vkrecon run: warning: " << run.checkpoint_file.string()
+  if (run.options.resume && checkpoint_text.empty() && run.Warn())
+    *run.Warn() << "vkrecon run: warning: " << run.checkpoint_file.string()
               << " does not exist (the run stopped before its first checkpoint, or OUT is not the run's "
                  "folder): starting the run from the beginning\n";
   return checkpoint_text;
@@ -253,7 +197,7 @@ opt::MapSearchSummary ReadStartSearch(const RunContext& run) {
   run.ranks.Broadcast(&start_text);
   if (!start_text.empty()) {
     try {
-      start = StartFromJson(nlohmann::json::parse(start_text));
+      start = StartSearchFromJson(nlohmann::json::parse(start_text));
     } catch (const std::exception& e) {
       throw InputError(run.start_file.string(), "", std::string("cannot resume: ") + e.what());
     }
@@ -288,8 +232,8 @@ std::unique_ptr<opt::Sampler> StartSampler(const RunContext& run, opt::SamplerOp
     throw InputError(run.scene.file.string(), "sampler", why);
   PreflightVisibility(run.scene, likelihood);
   // Before the first checkpoint, so that any run that resumes has its mode to compare.
-  *start = RunStartSearch(run.scene, target, sampler_options.start_search, run.quiet, run.options.observer.best);
-  if (run.root && !start->map.empty()) WriteAtomically(run.start_file, StartJson(*start).dump(2) + "\n");
+  *start = RunStartSearch(run.scene, target, sampler_options.start_search, run.Say(), run.options.observer.best);
+  if (run.root && !start->map.empty()) WriteAtomically(run.start_file, ToJson(*start).dump(2) + "\n");
   sampler_options.initial_temperature = InitialTemperature(run.scene, target);
   auto sampler = std::make_unique<opt::Sampler>(sampler_options, ParameterSpecs(run.scene), target);
   // From here on a resume continues this run rather than starting it again (the initial
@@ -300,7 +244,7 @@ std::unique_ptr<opt::Sampler> StartSampler(const RunContext& run, opt::SamplerOp
 
 // The sampler's frames, with the progress bar, the time limit, SIGINT and the checkpoints.
 opt::SamplerSummary Sample(const RunContext& run, opt::Sampler& sampler, DistributedTarget& target) {
-  ProgressBar bar(run.quiet);
+  ProgressBar bar(run.Say());
   auto last_checkpoint = Clock::now();
   const auto sampling_start = Clock::now();
   bool said_time_limit = false;
@@ -312,12 +256,12 @@ opt::SamplerSummary Sample(const RunContext& run, opt::Sampler& sampler, Distrib
     if (run.time_limit > 0.0 && p.phase == opt::Phase::Sampling &&
         Clock::now() - sampling_start > std::chrono::duration<double>(run.time_limit)) {
       r.finish_sampling = true;
-      if (!said_time_limit && !run.quiet)
-        std::cerr << "\nvkrecon run: the time limit (" << Duration(run.time_limit)
+      if (!said_time_limit && run.Say())
+        *run.Say() << "\nvkrecon run: the time limit (" << Duration(run.time_limit)
                   << ") is up: sampling ends once the burn-in (with iterations \"auto\": the schedule) is over\n";
       said_time_limit = true;
     }
-    r.stop = g_stop.load();
+    r.stop = run.options.should_stop && run.options.should_stop();
     if (run.ranks.distributed()) {
       // What changes the sampler's course (a stop, the time limit) is rank 0's decision, so
       // that every rank's sampler stays the same: one byte per frame.
@@ -343,269 +287,80 @@ opt::SamplerSummary Sample(const RunContext& run, opt::Sampler& sampler, Distrib
   return summary;
 }
 
-// What a completed run does to its MAP before the outputs, on every rank alike.
-struct Refinement {
-  // The local search's mode against the chains' MAP, each scored with the colour correction
-  // and clutter masks a calibration at it would find (Target::ScoreModes).
-  opt::ModeComparison start_compared;
-  opt::PolishSummary polish;
-};
-
-// The local search's mode adopted where it scores higher, then the MAP polished by BOBYQA
-// (optimiser/Polish.h): every rank runs the same search, as it ran the same sampler. Not in
-// the checkpoint: a resumed finished run polishes again, alike.
-Refinement Refine(const RunContext& run, const opt::Sampler& sampler, opt::Target& target,
-                  const opt::MapSearchSummary& start, opt::SamplerSummary* summary) {
-  Refinement refined;
-  if (summary->termination != opt::Termination::Completed) return refined;
+// The local search's mode adopted where it scores higher (each scored with the colour
+// correction and clutter masks a calibration at it would find: Target::ScoreModes), then the
+// MAP polished by BOBYQA (optimiser/Polish.h): every rank runs the same search, as it ran the
+// same sampler. Not in the checkpoint: a resumed finished run polishes again, alike.
+void Refine(const RunContext& run, const opt::Sampler& sampler, opt::Target& target, ReconstructSummary* out) {
+  if (!out->completed()) return;
+  opt::SamplerSummary* summary = &out->sampler;
+  const opt::MapSearchSummary& start = out->start_search;
+  opt::ModeComparison& compared = out->start_compared;
   const RunObserver& observer = run.options.observer;
   if (!start.map.empty()) {
-    refined.start_compared = opt::AdoptIfHigher(sampler.parameters(), target, start.map, summary);
-    if (refined.start_compared.adopted && observer.best) observer.best(summary->map);
-    if (refined.start_compared.adopted && !run.quiet)
-      std::cerr << "vkrecon run: the local search's mode scores "
-                << refined.start_compared.candidate - refined.start_compared.chains
-                << " nats above the chains' MAP: it becomes the MAP\n";
+    compared = opt::AdoptIfHigher(sampler.parameters(), target, start.map, summary);
+    if (compared.adopted && observer.best) observer.best(summary->map);
+    if (compared.adopted && run.Say())
+      *run.Say() << "vkrecon run: the local search's mode scores " << compared.candidate - compared.chains
+                 << " nats above the chains' MAP: it becomes the MAP\n";
   }
   double best = summary->map_log_posterior;
-  refined.polish = opt::PolishMap(sampler.parameters(), target, sampler.options().polish_evaluations, summary,
+  out->polish = opt::PolishMap(sampler.parameters(), target, sampler.options().polish_evaluations, summary,
                                   [&](const opt::SearchEvaluation& e) {
                                     if (!(e.log_posterior > best)) return;
                                     best = e.log_posterior;
                                     if (observer.best) observer.best(*e.psi);
                                   });
-  if (!run.quiet && refined.polish.evaluations > 0)
-    std::cerr << "vkrecon run: polished the MAP with BOBYQA: " << refined.polish.evaluations << " evaluations, +"
-              << refined.polish.improvement << " nats\n";
-  return refined;
+  if (run.Say() && out->polish.evaluations > 0)
+    *run.Say() << "vkrecon run: polished the MAP with BOBYQA: " << out->polish.evaluations << " evaluations, +"
+               << out->polish.improvement << " nats\n";
 }
 
 // Rank 0 under MPI: OUT/scale_out.json, beside map.json, not in it (map.json is bit-identical
 // to a one-process run's), and one line on what the exchange cost.
 void WriteScaleOut(const RunContext& run, const nlohmann::json& exchange) {
   WriteAtomically(run.options.output_dir / "scale_out.json", exchange.dump(2) + "\n");
-  if (!run.options.quiet)
-    std::cerr << "vkrecon run: " << run.ranks.size() << " MPI ranks: per call "
-              << exchange["evaluate_s"].get<double>() * 1e3 << " ms scoring, "
+  if (run.Say())
+    *run.Say() << "vkrecon run: " << run.ranks.size() << " MPI ranks: per call "
+               << exchange["evaluate_s"].get<double>() * 1e3 << " ms scoring, "
               << exchange["exchange_s"].get<double>() * 1e3 << " ms exchanging ("
               << exchange["share"].get<double>() * 100 << " % with the frame requests), "
               << exchange["wait_s"].get<double>() * 1e3 << " ms waiting for the slowest rank (scale_out.json)\n";
 }
 
-// The MAP climbs on at twice the atlas's side (FinerAtlasPolish.h), and is adopted when it
-// ran. Not in the checkpoint either: deterministic, so a resumed finished run polishes
-// alike. Its evaluations count as level −1 (four of level 0's) for the observer.
-FinerAtlasPolish PolishFinerAndAdopt(const RunContext& run, const opt::Sampler& sampler,
-                                     opt::SamplerSummary* summary) {
-  const RunObserver& observer = run.options.observer;
-  const FinerAtlasPolish finer = PolishAtFinerAtlas(
-      run.device, run.scene, run.options.overrides, *summary, sampler.options().finer_atlas_polish, run.quiet,
-      [&](size_t n) {
-        if (observer.evaluated) observer.evaluated(-1, n);
-      });
-  if (finer.ran) {
-    AdoptPolishedMap(finer, run.scene, summary);
-    summary->evaluations += finer.evaluations;
-    if (observer.best) observer.best(summary->map);
-  }
-  return finer;
-}
 
-// The surface likelihood the outputs are rendered with: full resolution, one hypothesis, the
-// run's calibrated σ, position sd and colour correction (its composite is the model's
-// texture whichever likelihood sampled).
-std::unique_ptr<SurfaceLikelihood> OutputLikelihood(const RunContext& run, const opt::SamplerSummary& summary,
-                                                    SurfaceLikelihoodOptions* surface) {
-  *surface = SurfaceLikelihoodOptions::FromScene(run.scene);
-  surface->max_batch = 1;
-  surface->model.sigma = SigmaUsed(run.scene, summary);
-  if (summary.calibration.is_object()) {
-    const NoiseCalibration calibration = NoiseCalibrationFromJson(summary.calibration);
-    surface->model.position_sd = calibration.position_sd;
-  }
-  auto outputs = std::make_unique<SurfaceLikelihood>(run.device, run.scene, *surface);
-  if (summary.calibration.is_object() && !summary.calibration["photometric"].is_null())
-    outputs->SetPhotometric(PhotometricFromJson(summary.calibration["photometric"], int(run.scene.cameras.size())));
-  return outputs;
-}
-
-// The final clutter masks: loaded from the checkpoint's files, written as the outputs'
-// OUT/clutter/<camera>.png and set on `outputs`.
-struct ClutterOutputs {
-  std::vector<Image> masks;
-  std::vector<double> share;
-  nlohmann::json files = nlohmann::json::array();  // the outputs' names, clutter/<camera>.png
-};
-
-ClutterOutputs WriteClutter(const RunContext& run, const nlohmann::json& calibration, SurfaceLikelihood& outputs) {
-  ClutterOutputs clutter;
-  if (!calibration.is_object() || !calibration.contains("clutter")) return clutter;
-  const fs::path& out = run.options.output_dir;
-  fs::create_directories(out / "clutter");
-  for (const auto& file : calibration["clutter"]["files"]) {
-    clutter.masks.push_back(LoadImage(out / file.get<std::string>()));
-    const std::string output = "clutter/" + run.scene.cameras[clutter.masks.size() - 1].name + ".png";
-    WritePngAtomically(out / output, clutter.masks.back());
-    clutter.files.push_back(output);
-  }
-  clutter.share = calibration["clutter"]["share"].get<std::vector<double>>();
-  outputs.SetClutterMasks(clutter.masks);
-  return clutter;
-}
-
-// The checkpoint's masks other than the final ones (the outputs', the checkpoint's) will
-// never be read again.
-void RemoveUnusedMasks(const RunContext& run, const nlohmann::json& calibration,
-                       const nlohmann::json& chains_calibration) {
-  auto lists = [](const nlohmann::json& calibration, const std::string& name) {
-    return calibration.is_object() && calibration.contains("clutter") &&
-           std::count(calibration["clutter"]["files"].begin(), calibration["clutter"]["files"].end(), name) > 0;
-  };
-  const fs::path masks = run.options.output_dir / kCheckpointMasks;
-  if (!fs::is_directory(masks)) return;
-  for (const auto& entry : fs::directory_iterator(masks)) {
-    const std::string name = std::string(kCheckpointMasks) + "/" + entry.path().filename().string();
-    if (!lists(calibration, name) && !lists(chains_calibration, name)) fs::remove(entry.path());
-  }
-}
-
-// The outputs at the MAP that show the model: composite.exr/.png, model.glb and
-// reprojections/, then the diagnosis of what they show. With the polish at the finer atlas,
-// the MAP's log posterior is the one the run's calibrated likelihood gives it.
-struct ModelOutputs {
+// Rank 0, after a completed run: everything at the MAP, then the writer over the summary
+// (map.json last), then the report.
+void WriteOutputs(const RunContext& run, const opt::Sampler& sampler, const nlohmann::json& chains_calibration,
+                  ReconstructSummary* summary) {
   SceneGeometry geometry;
-  Diagnosis diagnosis;
-};
-
-ModelOutputs WriteModel(const RunContext& run, const opt::Sampler& sampler, SurfaceLikelihood& outputs,
-                        const SurfaceLikelihoodOptions& surface, const ClutterOutputs& clutter,
-                        const FinerAtlasPolish& finer, opt::SamplerSummary* summary) {
-  const fs::path& out = run.options.output_dir;
-  Evaluation at_map;
-  const SurfaceDump dump = outputs.EvaluateAndDump(summary->map, &at_map);
-  if (finer.ran) {  // the adopted MAP as the run's (calibrated) likelihood scores it
-    summary->map_log_prior = opt::LogPrior(sampler.parameters(), summary->map);
-    summary->map_log_likelihood = at_map.total() / KappaFromJson(summary->calibration);
-    summary->map_log_posterior = summary->map_log_prior + summary->map_log_likelihood;
-  }
-  const Image composite = DilateAtlas(dump.composite);
-  WriteExr(out / "composite.exr", composite);
-  WritePng(out / "composite.png", composite);
-  SceneGeometry geometry = BuildSceneGeometry(run.scene, run.scene.InitialValues(), surface.atlas);
-  WriteTexturedGlb(out / "model.glb", run.scene, geometry, summary->map, composite);
-  ReprojectionNoise noise;
-  noise.sigma_255 = surface.model.sigma;
-  noise.position_sd = surface.model.position_sd;
-  noise.photometric = outputs.photometric();
-  noise.clutter = clutter.masks;
-  const std::vector<Reprojection> reprojections =
-      WriteReprojections(out / "reprojections", run.device, run.scene, geometry, summary->map, composite, noise);
-  Diagnosis diagnosis =
-      Diagnose(run.scene, at_map, surface.model.sigma, *summary,
-               NodeResiduals(run.scene, geometry.atlas, dump.deviation, dump.noise), reprojections, clutter.share,
-               &finer);
-  return {std::move(geometry), std::move(diagnosis)};
-}
-
-// map.json's "settings": what the run used, so that it can be repeated.
-nlohmann::json SettingsJson(const RunContext& run, const opt::Sampler& sampler) {
-  const Scene& scene = run.scene;
-  nlohmann::json settings = {
-      {"scene", fs::absolute(run.options.scene_file).string()},
-      {"overrides", nlohmann::json::array()},
-      {"device", run.device.name()},
-      {"likelihood", {{"kind", scene.likelihood.kind},
-                      {"sigma", scene.likelihood.sigma_auto ? nlohmann::json("auto")
-                                                            : nlohmann::json(scene.likelihood.sigma)},
-                      {"weights", scene.likelihood.weights}, {"atlas", scene.likelihood.atlas},
-                      {"levels", scene.likelihood.levels},
-                      {"charts", scene.likelihood.charts},
-                      {"photometric", scene.likelihood.photometric},
-                      {"clutter", scene.likelihood.clutter},
-                      {"sandwich_blocks", scene.likelihood.sandwich_blocks == 0
-                                              ? nlohmann::json("auto")
-                                              : nlohmann::json(scene.likelihood.sandwich_blocks)},
-                      {"partners", scene.likelihood.partners},
-                      {"partner_ranking", scene.likelihood.partner_ranking}}},
-      {"sampler", opt::ToJson(sampler.options())},
-      {"time_limit", run.time_limit}};
-  for (const SceneOverride& o : run.options.overrides) settings["overrides"].push_back(o.path + "=" + o.value);
-  return settings;
-}
-
-// OUT/map.json's content: the sampler's summary and what the run did around it.
-nlohmann::json RunMapJson(const RunContext& run, const opt::Sampler& sampler, const opt::SamplerSummary& summary,
-                          const opt::MapSearchSummary& start, const Refinement& refined,
-                          const FinerAtlasPolish& finer, const ClutterOutputs& clutter, const Diagnosis& diagnosis) {
-  nlohmann::json map = opt::MapJson(summary);
-  map["start_search"] = StartJson(start);
-  auto finite = [](double x) { return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(); };
-  // Both as they were compared: each with the nuisances fitted at it (ScoreModes).
-  map["start_search"]["log_posterior_at_end"] = finite(refined.start_compared.candidate);
-  map["start_search"]["chains_log_posterior_at_end"] = finite(refined.start_compared.chains);
-  map["start_search"]["adopted"] = refined.start_compared.adopted;
-  const opt::PolishSummary& polish = refined.polish;
-  map["polish"] = {{"method", "bobyqa"}, {"evaluations", polish.evaluations}, {"improved", polish.improved},
-                   {"improvement", polish.improvement}, {"message", polish.message}};
-  map["finer_atlas_polish"] = ToJson(finer, summary);
-  if (!clutter.files.empty()) map["calibration"]["clutter"]["files"] = clutter.files;
-  map["settings"] = SettingsJson(run, sampler);
-  map["diagnosis"] = diagnosis.json;
-  return map;
-}
-
-// OUT/chain.csv, and the posterior draws for ArviZ and other CmdStan-CSV readers in
-// OUT/chains/stan-<chain>.csv (README, "vkrecon run").
-void WriteChains(const RunContext& run, const opt::Sampler& sampler, const opt::SamplerSummary& summary) {
-  const fs::path& out = run.options.output_dir;
-  {
-    std::ostringstream csv;
-    csv.imbue(std::locale::classic());
-    opt::WriteChainCsv(csv, summary.chain, sampler.parameters());
-    WriteAtomically(out / "chain.csv", csv.str());
-  }
-  fs::create_directories(out / "chains");
-  for (int c = 0; c < summary.posterior_chains; ++c) {
-    std::ostringstream stan;
-    opt::WriteStanCsv(stan, summary, sampler.parameters(), c, sampler.options().seed);
-    WriteAtomically(out / "chains" / ("stan-" + std::to_string(c + 1) + ".csv"), stan.str());
-  }
-}
-
-// Rank 0, after a completed run: everything at the MAP, map.json last and then the report.
-void WriteOutputs(const RunContext& run, const opt::Sampler& sampler, const opt::MapSearchSummary& start,
-                  const Refinement& refined, const nlohmann::json& chains_calibration, opt::SamplerSummary* summary,
-                  ReconstructResult* result) {
-  const FinerAtlasPolish finer = PolishFinerAndAdopt(run, sampler, summary);
-  result->map = summary->map;
-  SurfaceLikelihoodOptions surface;
-  const std::unique_ptr<SurfaceLikelihood> outputs = OutputLikelihood(run, *summary, &surface);
-  const ClutterOutputs clutter = WriteClutter(run, summary->calibration, *outputs);
-  RemoveUnusedMasks(run, summary->calibration, chains_calibration);
-  const ModelOutputs model = WriteModel(run, sampler, *outputs, surface, clutter, finer, summary);
-  result->notes = model.diagnosis.notes;
-  result->diagnosis_ok = model.diagnosis.ok();
-  result->failed = model.diagnosis.verdict == Diagnosis::Verdict::Failed;
-
-  const nlohmann::json map = RunMapJson(run, sampler, *summary, start, refined, finer, clutter, model.diagnosis);
-  run.scene.WriteValues(run.options.output_dir / "at_map.json", summary->map);  // for render --at
-  WriteChains(run, sampler, *summary);
-  // Last, so that a map.json is the mark of a finished run: a run killed while writing its
-  // outputs shows none, and its checkpoint writes them all again on --resume.
-  result->map_json = run.options.output_dir / "map.json";
-  WriteAtomically(result->map_json, map.dump(2) + "\n");
+  FinishAtMap(run, sampler, chains_calibration, summary, &geometry);
+  for (fs::path& file : WriteRunFiles(*summary, run.scene)) summary->written.push_back(std::move(file));
   // overlays/, report.html (docs/guide/REPORT.md)
-  report::WriteRunReport(run.options.output_dir, run.scene, model.geometry, summary->map);
-  if (!run.quiet) std::cerr << summary->BriefReport() << "\n";
+  report::WriteRunReport(run.options.output_dir, run.scene, geometry, summary->map());
+  summary->written.push_back(run.options.output_dir / "report.html");
+  if (run.Say()) *run.Say() << summary->sampler.BriefReport() << "\n";
   // With sampler.evidence_rungs: the log evidence (docs/internals/EVIDENCE.md), also in map.json.
-  if (!run.quiet && summary->evidence) std::cerr << opt::BriefReport(*summary->evidence) << "\n";
+  if (run.Say() && summary->sampler.evidence) *run.Say() << opt::BriefReport(*summary->sampler.evidence) << "\n";
 }
 
 }  // namespace
 
-void RequestStop() { g_stop = true; }
+bool ReconstructOptions::IsValid(std::string* why) const {
+  const auto fail = [&](const std::string& text) {
+    if (why) *why = text;
+    return false;
+  };
+  if (!scene) return fail("no scene: load one with LoadSearchScene");
+  if (scene->parameters.empty()) return fail("the scene declares no parameter: nothing to reconstruct");
+  if (output_dir.empty()) return fail("no output folder");
+  if (!(checkpoint_seconds >= 0.0)) return fail("checkpoint_seconds must be at least 0");
+  if (temperatures < 0) return fail("temperatures must be at least 0 (0: the scene's)");
+  return true;
+}
 
-ReconstructResult Reconstruct(const ReconstructOptions& options, vk::Device& device) {
+void Reconstruct(const ReconstructOptions& options, vk::Device& device, ReconstructSummary* out) {
+  if (std::string why; !options.IsValid(&why)) throw std::invalid_argument("Reconstruct: " + why);
   const RunContext run(options, device);
   if (run.root) fs::create_directories(options.output_dir);
 
@@ -616,44 +371,37 @@ ReconstructResult Reconstruct(const ReconstructOptions& options, vk::Device& dev
   const opt::SamplerOptions sampler_options = SamplerOptionsFor(run, likelihood->levels());
 
   const std::string checkpoint_text = ReadCheckpoint(run);
-  opt::MapSearchSummary start;
+  ReconstructSummary summary;
+  summary.output_dir = options.output_dir;
   std::unique_ptr<opt::Sampler> sampler;
   if (!checkpoint_text.empty()) {
-    start = ReadStartSearch(run);
+    summary.start_search = ReadStartSearch(run);
     sampler = ResumeSampler(run, checkpoint_text, target);
   } else {
-    sampler = StartSampler(run, sampler_options, target, *likelihood, &start);
+    sampler = StartSampler(run, sampler_options, target, *likelihood, &summary.start_search);
   }
 
-  opt::SamplerSummary summary = Sample(run, *sampler, target);
-  summary.evaluations += start.evaluations;  // every evaluation the run made, the local search's too
+  summary.sampler = Sample(run, *sampler, target);
+  summary.termination = summary.sampler.termination;
+  // every evaluation the run made, the local search's too
+  summary.sampler.evaluations += summary.start_search.evaluations;
   // The checkpoint keeps the chains' calibration, which an adoption replaces in the summary
   // (the nuisances refitted at the adopted mode): a resumed finished run reloads its masks.
-  const nlohmann::json chains_calibration = summary.calibration;
-  const Refinement refined = Refine(run, *sampler, target, start, &summary);
+  const nlohmann::json chains_calibration = summary.sampler.calibration;
+  Refine(run, *sampler, target, &summary);
   const nlohmann::json exchange =
       run.ranks.distributed() ? ExchangeCost(target.times(), run.ranks, run.scene.sampler.batch) : nlohmann::json();
 
-  ReconstructResult result;
-  if (summary.termination == opt::Termination::Failed) throw std::runtime_error("sampler failed: " + summary.message);
-  if (!run.root) {  // rank 0 writes everything; the MPI job ends when it has
-    result.completed = summary.termination == opt::Termination::Completed;
-    result.diagnosis_ok = true;
-    result.map = summary.map;
-    return result;
+  if (summary.termination == opt::Termination::Failed)
+    throw std::runtime_error("sampler failed: " + summary.sampler.message);
+  // Rank 0 writes everything; the MPI job ends when it has. Stopped, the checkpoint is the output.
+  if (run.root && run.ranks.distributed()) WriteScaleOut(run, exchange);
+  if (run.root) WriteAtomically(run.checkpoint_file, sampler->Checkpoint().dump());
+  if (run.root && summary.completed()) {
+    likelihood.reset();  // the outputs come from a surface likelihood at full resolution
+    WriteOutputs(run, *sampler, chains_calibration, &summary);
   }
-  if (run.ranks.distributed()) WriteScaleOut(run, exchange);
-  if (summary.termination == opt::Termination::Stopped) {
-    WriteAtomically(run.checkpoint_file, sampler->Checkpoint().dump());
-    return result;  // interrupted: the checkpoint is the output
-  }
-  result.completed = true;
-  result.map = summary.map;
-  WriteAtomically(run.checkpoint_file, sampler->Checkpoint().dump());
-  // Outputs at the MAP, from a surface likelihood at full resolution.
-  likelihood.reset();
-  WriteOutputs(run, *sampler, start, refined, chains_calibration, &summary, &result);
-  return result;
+  *out = std::move(summary);
 }
 
 }  // namespace vkr::recon

@@ -268,15 +268,14 @@ PeersReport RunPeers(const PeersOptions& options, vk::Device& device, const Peer
         PeersRow row{asset.name, "run", seed};
         Watch watch(truth, options.tolerance, &row);
         recon::ReconstructOptions run;
-        run.scene_file = asset.scene;
-        run.overrides = sets;
+        run.scene = std::make_shared<const Scene>(recon::LoadSearchScene(asset.scene, sets));
         run.output_dir = folder / "run";
         run.quiet = true;
-        run.one_process = true;
         run.observer.evaluated = [&](int level, size_t n) { watch.Spent(level, n); };
         run.observer.best = [&](const std::vector<double>& psi) { watch.Best(psi); };
-        const recon::ReconstructResult result = recon::Reconstruct(run, device);
-        watch.Final(result.map);
+        recon::ReconstructSummary result;
+        recon::Reconstruct(run, device, &result);
+        watch.Final(result.map());
         report.rows.push_back(row);
       }
       for (const opt::SearchMethod method : options.methods) {

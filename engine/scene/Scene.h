@@ -194,6 +194,12 @@ struct SynthSettings {
   int supersample = 1;           // samples per pixel along each axis (anti-aliasing)
 };
 
+// `--set PATH=VALUE` overrides, applied to the JSON before it is interpreted.
+struct SceneOverride {
+  std::string path;   // dotted path, e.g. "likelihood.sigma" or "sampler.seed"
+  std::string value;  // parsed as JSON if it parses, else taken as a string
+};
+
 class Scene {
  public:
   Scene();  // empty: no parameters, nodes or cameras; LoadScene fills one in
@@ -203,6 +209,9 @@ class Scene {
 
   std::filesystem::path file;        // the scene file (absolute)
   std::filesystem::path images_dir;  // where camera images resolve (absolute)
+  // The overrides it was loaded with: with `file`, how to load it again (a run records both,
+  // and loads it again at another atlas side).
+  std::vector<SceneOverride> overrides;
   std::vector<Parameter> parameters;
   std::vector<Node> nodes;
   std::vector<CameraModel> cameras;
@@ -230,12 +239,6 @@ class Scene {
  private:
   friend struct scene_detail::SceneAccess;
   std::unique_ptr<ExpressionTable> expressions_;
-};
-
-// `--set PATH=VALUE` overrides, applied to the JSON before it is interpreted.
-struct SceneOverride {
-  std::string path;   // dotted path, e.g. "likelihood.sigma" or "sampler.seed"
-  std::string value;  // parsed as JSON if it parses, else taken as a string
 };
 
 // Splits command-line `--set PATH=VALUE` strings. Path fields (images, cameras, masks,

@@ -304,6 +304,7 @@ Scene LoadScene(const std::filesystem::path& file, const std::vector<SceneOverri
 
   Scene scene;
   scene.file = std::filesystem::absolute(file).lexically_normal();
+  scene.overrides = overrides;
   Reader r;
   r.file = display;
   r.dir = scene.file.parent_path();

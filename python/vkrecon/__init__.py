@@ -1,4 +1,5 @@
-"""vkrecon from Python: scenes, the likelihood on a numpy batch, the --at format.
+"""vkrecon from Python: scenes, the likelihood on a numpy batch, the --at format, whole runs
+and rendered views.
 
     import numpy as np, vkrecon
     scene = vkrecon.Scene.load("assets/house/scene.json", set=["images=out/house/images"])
@@ -8,6 +9,10 @@
     scores = likelihood.evaluate(np.stack([at, scene.initial_values]))
     print(scores["total"])
 
+    run = vkrecon.reconstruct(scene, "out/house/run")   # `vkrecon run`: map.json and the rest
+    print(run.brief_report(), run.parameters[0], run.draws.shape)
+    view = vkrecon.render(scene, at=run.map, texture="out/house/run/composite.exr")
+
 docs/guide/PYTHON.md has more. Bad input raises vkrecon.InputError (a ValueError) carrying
 the one line the command line prints.
 """
@@ -16,9 +21,11 @@ import json
 import os
 import tempfile
 
-from ._vkrecon import InputError, Likelihood, Scene, validation_messages
+from ._vkrecon import (InputError, Likelihood, ReconstructSummary, Scene, load_image, reconstruct, render,
+                       validation_messages)
 
-__all__ = ["InputError", "Likelihood", "Scene", "validation_messages", "scene_from_dict", "read_at", "write_at"]
+__all__ = ["InputError", "Likelihood", "ReconstructSummary", "Scene", "load_image", "reconstruct", "render",
+           "validation_messages", "scene_from_dict", "read_at", "write_at"]
 
 
 def scene_from_dict(scene, base_dir=".", set=(), require_images=True):

@@ -2,7 +2,10 @@
 
 import json
 import os
+import signal
 import subprocess
+import threading
+import time
 
 import numpy as np
 import pytest
@@ -87,3 +90,129 @@ def test_a_dict_is_a_scene(tmp_path):
     assert loaded.parameter_names == list(scene["parameters"].keys())
     with pytest.raises(ValueError):
         vkrecon.Likelihood(loaded, batch=0)
+
+
+BOX = os.path.join(ROOT, "assets", "box")
+# A short run, as tests/cli/RunCliTest.cpp keeps its runs short: a small atlas, two levels,
+# 40 iterations of two chains.
+SHORT = ["likelihood.atlas=64", "likelihood.levels=2", "sampler.iterations=40", "sampler.chains=2",
+         "sampler.batch=4"]
+
+
+@pytest.fixture(scope="module")
+def box(tmp_path_factory):
+    """The box photographed at its truth, quarter size; a short run's settings."""
+    out = tmp_path_factory.mktemp("box")
+    subprocess.run([BINARY, "synth", os.path.join(BOX, "scene.json"), "--at", os.path.join(BOX, "truth.json"),
+                    "--scale", "0.25", "--noise", "8", "--seed", "1", "-q", "-o", str(out)], check=True)
+    return [f"cameras={out}/cameras.json", f"images={out}"] + SHORT
+
+
+@pytest.fixture(scope="module")
+def box_run(box, tmp_path_factory):
+    """The same short run from Python and from the command line."""
+    out = tmp_path_factory.mktemp("runs")
+    scene = vkrecon.Scene.load(os.path.join(BOX, "scene.json"), set=box)
+    summary = vkrecon.reconstruct(scene, out / "python")
+    args = [BINARY, "run", "-q", os.path.join(BOX, "scene.json"), "-o", str(out / "cli")]
+    for s in box:
+        args += ["--set", s]
+    subprocess.run(args, check=True, capture_output=True)
+    return scene, summary, out
+
+
+def test_a_run_writes_what_the_command_line_writes(box_run):
+    scene, summary, out = box_run
+    assert summary.completed and summary.termination == "completed"
+    for name in ("map.json", "chain.csv", "at_map.json", "chains/stan-1.csv", "chains/stan-2.csv"):
+        assert (out / "python" / name).read_bytes() == (out / "cli" / name).read_bytes(), name
+    assert str(out / "python" / "map.json") in [str(p) for p in summary.written]
+
+
+def test_the_summary_is_map_json(box_run):
+    scene, summary, out = box_run
+    written = json.load(open(out / "python" / "map.json"))
+    assert summary.to_json() == written
+    assert [p["name"] for p in summary.parameters] == scene.parameter_names == summary.parameter_names
+    for p in summary.parameters:
+        for key in ("map", "mean", "sd", "q025", "q975", "ess", "rhat"):
+            assert p[key] == written["parameters"][p["name"]][key] or written["parameters"][p["name"]][key] is None
+    np.testing.assert_array_equal(summary.map, [written["parameters"][n]["map"] for n in scene.parameter_names])
+    assert summary.verdict == written["diagnosis"]["verdict"]
+    assert summary.notes == written["diagnosis"]["notes"]
+    assert summary.ok == (summary.verdict == "ok")
+    assert summary.log_posterior == written["log_posterior"]
+    assert "40 iterations" in summary.brief_report() and "\n" not in summary.brief_report()
+    assert summary.parameter_names[0] in summary.full_report()
+
+
+def test_the_map_lies_near_the_truth(box_run):
+    scene, summary, _ = box_run
+    truth = scene.values_from_file(os.path.join(BOX, "truth.json"))
+    priors = json.load(open(os.path.join(BOX, "scene.json")))["parameters"]
+    width = np.array([np.diff(priors[n]["prior"]["uniform"])[0] for n in scene.parameter_names])
+    assert np.all(np.abs(summary.map - truth) < 0.02 * width), (summary.map, truth)
+
+
+def test_the_draws_are_the_chains_after_burn_in(box_run):
+    scene, summary, out = box_run
+    written = json.load(open(out / "python" / "map.json"))
+    draws, chains = summary.draws, summary.draw_chains
+    per_chain = written["iterations"] - written["burn_in"]
+    assert draws.shape == (2 * per_chain, len(scene.parameter_names))
+    assert list(chains) == [0] * per_chain + [1] * per_chain
+    lines = [line for line in open(out / "python" / "chains" / "stan-1.csv") if not line.startswith("#")]
+    header = lines[0].strip().split(",")
+    stan = np.array([[float(x) for x in line.split(",")] for line in lines[1:]])
+    columns = [header.index(name) for name in scene.parameter_names]
+    np.testing.assert_allclose(stan[:, columns], draws[:per_chain], rtol=1e-12)
+
+
+def test_a_view_is_what_render_writes(box, box_run, tmp_path):
+    scene, summary, out = box_run
+    texture = out / "python" / "composite.exr"
+    view = vkrecon.render(scene, at=summary.map, camera="cam1", texture=texture, scale=0.5)
+    vkrecon.write_at(scene, tmp_path / "map.json", summary.map)
+    args = [BINARY, "render", "-q", os.path.join(BOX, "scene.json"), "--at", str(tmp_path / "map.json"),
+            "--camera", "cam1", "--texture", str(texture), "--scale", "0.5", "-o", str(tmp_path / "cam1.exr")]
+    for s in box:
+        args += ["--set", s]
+    subprocess.run(args, check=True)
+    written = vkrecon.load_image(tmp_path / "cam1.exr")
+    assert view.shape == written.shape and view.shape[2] == 4 and view.dtype == np.float32
+    np.testing.assert_array_equal(view, written)
+    assert 0 < view[:, :, 3].mean() < 1  # the box and its ground, and the sky beyond
+    with pytest.raises(vkrecon.InputError):
+        vkrecon.render(scene, camera="no such camera")
+
+
+def test_a_run_that_cannot_start_raises_the_command_lines_line(box, tmp_path):
+    away = box + ['nodes[0].transforms=[{"translate": [100, 0, 0]}, {"scale": [5, 5, 1]}]',
+                  'nodes[1].transforms=[{"translate": ["x+100", "y", 0]}, {"rotate": [0, 0, "yaw"]}, '
+                  '{"scale": ["w", "d", "h"]}]']
+    scene = vkrecon.Scene.load(os.path.join(BOX, "scene.json"), set=away)
+    with pytest.raises(vkrecon.InputError) as raised:
+        vkrecon.reconstruct(scene, tmp_path / "python")
+    args = [BINARY, "run", "-q", os.path.join(BOX, "scene.json"), "-o", str(tmp_path / "cli")]
+    for s in away:
+        args += ["--set", s]
+    cli = subprocess.run(args, capture_output=True, text=True)
+    assert cli.returncode == 2
+    assert cli.stderr.strip() == f"vkrecon run: {raised.value}"
+
+
+def test_ctrl_c_checkpoints_the_run_and_raises(box, tmp_path):
+    scene = vkrecon.Scene.load(os.path.join(BOX, "scene.json"), set=box + ["sampler.iterations=400"])
+    out = tmp_path / "run"
+
+    def interrupt():  # once the run has a checkpoint to continue from
+        while not (out / "checkpoint.json").exists():
+            time.sleep(0.05)
+        os.kill(os.getpid(), signal.SIGINT)
+
+    thread = threading.Thread(target=interrupt)
+    thread.start()
+    with pytest.raises(KeyboardInterrupt):
+        vkrecon.reconstruct(scene, out, checkpoint_seconds=0.05)
+    thread.join()
+    assert (out / "checkpoint.json").exists() and not (out / "map.json").exists()
