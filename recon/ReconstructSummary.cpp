@@ -29,9 +29,9 @@ opt::MapSearchSummary StartSearchFromJson(const nlohmann::json& j) {
 
 std::vector<const opt::Sample*> PosteriorDraws(const opt::SamplerSummary& summary) {
   std::vector<const opt::Sample*> draws;
-  for (size_t c = 0; c < summary.chains.size(); ++c)
+  for (int c = 0; c < summary.posterior_chains; ++c)
     for (const opt::Sample& row : summary.chain)
-      if (row.chain == int(c) && row.iteration >= summary.burn_in) draws.push_back(&row);
+      if (row.chain == c && row.iteration >= summary.burn_in) draws.push_back(&row);
   return draws;
 }
 
@@ -61,7 +61,7 @@ std::string ReconstructSummary::BriefReport() const {
     return o.str();
   }
   o.precision(10);
-  o << ": " << sampler.iterations << " iterations x " << sampler.chains.size() << " chains, " << sampler.evaluations
+  o << ": " << sampler.iterations << " iterations x " << sampler.posterior_chains << " chains, " << sampler.evaluations
     << " evaluations; log posterior at MAP " << sampler.map_log_posterior << "; diagnosis "
     << ToString(diagnosis.verdict);
   return o.str();
