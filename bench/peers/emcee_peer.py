@@ -5,7 +5,9 @@ Synthesises photographs of an asset at its truth, samples its posterior (the sce
 the likelihood through `import vkrecon`) with emcee's ensemble, and prints one markdown row
 per move set, with the same figure bench/sampler.sh takes from map.json: the smallest
 rank-normalised split bulk ESS over the parameters × 1000 / every likelihood evaluation.
-With --run, `vkrecon run` on the same photographs adds its row (bench/peers_notes.md).
+With --run, `vkrecon run` on the same photographs adds its row first; with --match-run emcee then
+samples what run's chains sample, the log-likelihood at run's calibrated σ divided by its κ
+(bench/peers_notes.md).
 
     PYTHONPATH=build/python nice /usr/bin/python3 bench/peers/emcee_peer.py --scale 0.5 --run
 """
@@ -134,8 +136,9 @@ def log_prior_terms(scene_json, names):
 class Posterior:
     """Vectorised log posterior for emcee; counts every likelihood evaluation."""
 
-    def __init__(self, likelihood, prior):
+    def __init__(self, likelihood, prior, kappa):
         self.likelihood = likelihood
+        self.kappa = kappa
         self.lo, self.hi, self.mean, self.sd = prior
         self.evaluations = 0
 
@@ -150,7 +153,8 @@ class Posterior:
         chunk = self.likelihood.max_batch
         for first in range(0, len(rows), chunk):
             part = rows[first:first + chunk]
-            lp[part] += self.likelihood.evaluate(x[part])["total"]
+            # As recon/LikelihoodTarget.cpp scores for the chains: the total over κ.
+            lp[part] += self.likelihood.evaluate(x[part])["total"] / self.kappa
             self.evaluations += len(part)
         return lp
 
@@ -179,7 +183,7 @@ def run_emcee(args, scene_json, images, moves_name):
     start = truth if args.start == "truth" else scene.initial_values
     likelihood.calibrate_photometric(start)
     prior = log_prior_terms(scene_json, names)
-    posterior = Posterior(likelihood, prior)
+    posterior = Posterior(likelihood, prior, args.kappa)
 
     width = np.where(np.isfinite(prior[1] - prior[0]), prior[1] - prior[0], 6 * prior[3])
     rng = np.random.default_rng(args.seed)
@@ -213,7 +217,8 @@ def run_emcee(args, scene_json, images, moves_name):
     worst = int(np.nanargmin(ess))
     rhat = max(rank_normalised_rhat(kept[:, :, j].T) for j in range(len(names)))
     return {
-        "sampler": f"emcee {emcee.__version__}, " + ("stretch" if moves_name == "stretch" else "DE 0.8 + snooker 0.2"),
+        "sampler": f"emcee {emcee.__version__}, " + ("stretch" if moves_name == "stretch" else "DE 0.8 + snooker 0.2")
+                   + f", σ {args.model_sigma:g}, κ {args.kappa:g}, from {args.start}",
         "walkers": walkers, "steps": steps, "evaluations": posterior.evaluations, "wall": wall,
         "min_ess": float(ess[worst]), "worst": names[worst],
         "acceptance": float(np.mean(sampler.acceptance_fraction)), "rhat": rhat,
@@ -242,8 +247,10 @@ def run_vkrecon(args, scene_json, images):
     # The posterior sd from the interval: map.json reports no sd.
     z = np.array([abs(m["parameters"][k]["mean"] - truth[k])
                   / ((m["parameters"][k]["q975"] - m["parameters"][k]["q025"]) / 3.92) for k in names])
+    calibration = m["calibration"]
     return {
-        "sampler": "vkrecon run (default)", "walkers": "—", "steps": m["iterations"],
+        "sigma": calibration["sigma"], "kappa": calibration["kappa"],
+        "sampler": f"vkrecon run (default; calibrated σ {calibration['sigma']:.3g}, κ {calibration['kappa']:.3g})", "walkers": "—", "steps": m["iterations"],
         "evaluations": m["evaluations"], "wall": wall, "min_ess": m["sampling"]["min_ess"] or math.nan,
         "worst": "—", "acceptance": math.nan, "rhat": m["sampling"]["max_rhat"] or math.nan, "z": z, "names": names, "out": out,
     }
@@ -264,6 +271,10 @@ def main():
     ap.add_argument("--sigma", type=float, default=16, help="noise of the synthesised photographs")
     ap.add_argument("--model-sigma", type=float, default=16,
                     help="the likelihood's σ (`run` estimates it at the mode; this is its known value)")
+    ap.add_argument("--kappa", type=float, default=1.0,
+                    help="divides the log-likelihood, as `run`'s sandwich factor does for its chains")
+    ap.add_argument("--match-run", action="store_true",
+                    help="with --run: run first, then give emcee its calibrated σ and κ (the chains' target)")
     ap.add_argument("--seed", type=int, default=1)
     ap.add_argument("--scale", type=float, default=0.5, help="photograph size (synth --scale)")
     ap.add_argument("--level", type=int, default=0, help="pyramid level emcee scores at")
@@ -291,10 +302,13 @@ def main():
               "| min bulk ESS (parameter) | ESS per 1,000 evaluations | max \\|mean − truth\\|/sd | per parameter |")
         print("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
         sys.stdout.flush()
+        if args.run:
+            r = run_vkrecon(args, scene_json, images)
+            print(row(args, r), flush=True)
+            if args.match_run:
+                args.model_sigma, args.kappa = r["sigma"], r["kappa"]
         for moves in args.moves.split(","):
             print(row(args, run_emcee(args, scene_json, images, moves)), flush=True)
-        if args.run:
-            print(row(args, run_vkrecon(args, scene_json, images)), flush=True)
 
 
 if __name__ == "__main__":
