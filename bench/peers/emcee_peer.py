@@ -13,9 +13,11 @@ samples what run's chains sample, the log-likelihood at run's calibrated σ divi
 """
 
 import argparse
+import glob
 import json
 import math
 import os
+import shutil
 import subprocess
 import sys
 import tempfile
@@ -226,9 +228,22 @@ def run_emcee(args, scene_json, images, moves_name):
     }
 
 
+def check_port(out, m):
+    """Warns where bulk_ess on the run's posterior draws (chains/) differs from map.json's."""
+    draws = []
+    for f in sorted(glob.glob(os.path.join(out, "chains", "stan-*.csv"))):
+        rows = [line.rstrip("\n").split(",") for line in open(f) if not line.startswith("#")]
+        draws.append(dict(zip(rows[0], np.array(rows[1:], dtype=float).T)))
+    for name, p in m["parameters"].items():
+        ours = bulk_ess(np.stack([d[name] for d in draws])) if draws else math.nan
+        if not math.isclose(ours, p["ess"] or math.nan, rel_tol=1e-6):
+            print(f"emcee_peer: bulk ESS of {name}: {ours:.3f} here, {p['ess']} in map.json", file=sys.stderr)
+
+
 def run_vkrecon(args, scene_json, images):
     """`vkrecon run` on the same photographs, with the asset's likelihood and sampler blocks removed."""
     asset_dir = os.path.join(ROOT, "assets", args.asset)
+    # Beside the asset's scene, whose textures it names by relative paths.
     fd, path = tempfile.mkstemp(suffix=".json", prefix=".scene_emcee_peer_", dir=asset_dir)
     out = tempfile.mkdtemp(prefix="emcee_peer_run_")
     try:
@@ -240,19 +255,20 @@ def run_vkrecon(args, scene_json, images):
                        stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, check=False)
         wall = time.time() - t0
         m = json.load(open(os.path.join(out, "map.json")))
+        check_port(out, m)
     finally:
         os.remove(path)
+        shutil.rmtree(out, ignore_errors=True)
     truth = json.load(open(os.path.join(asset_dir, "truth.json")))
     names = list(m["parameters"])
-    # The posterior sd from the interval: map.json reports no sd.
-    z = np.array([abs(m["parameters"][k]["mean"] - truth[k])
-                  / ((m["parameters"][k]["q975"] - m["parameters"][k]["q025"]) / 3.92) for k in names])
+    z = np.array([abs(m["parameters"][k]["mean"] - truth[k]) / m["parameters"][k]["sd"] for k in names])
     calibration = m["calibration"]
     return {
         "sigma": calibration["sigma"], "kappa": calibration["kappa"],
-        "sampler": f"vkrecon run (default; calibrated σ {calibration['sigma']:.3g}, κ {calibration['kappa']:.3g})", "walkers": "—", "steps": m["iterations"],
-        "evaluations": m["evaluations"], "wall": wall, "min_ess": m["sampling"]["min_ess"] or math.nan,
-        "worst": "—", "acceptance": math.nan, "rhat": m["sampling"]["max_rhat"] or math.nan, "z": z, "names": names, "out": out,
+        "sampler": f"vkrecon run (default; calibrated σ {calibration['sigma']:.3g}, κ {calibration['kappa']:.3g})",
+        "walkers": "—", "steps": m["iterations"], "evaluations": m["evaluations"], "wall": wall,
+        "min_ess": m["sampling"]["min_ess"] or math.nan, "worst": "—", "acceptance": math.nan,
+        "rhat": m["sampling"]["max_rhat"] or math.nan, "z": z, "names": names,
     }
 
 
@@ -281,7 +297,8 @@ def main():
     ap.add_argument("--batch", type=int, default=16, help="the likelihood's batch size")
     ap.add_argument("--walkers", type=int, default=0, help="0: max(16, 2 × parameters)")
     ap.add_argument("--evaluations", type=int, default=10000, help="budget per emcee run")
-    ap.add_argument("--moves", default="stretch,de", help="stretch, de or both")
+    ap.add_argument("--moves", default="stretch,de",
+                    help="comma-separated move sets: stretch (emcee's default), de (DE 0.8 + snooker 0.2)")
     ap.add_argument("--start", choices=["initial", "truth"], default="initial",
                     help="ball centre: the scene's initial values (where `run` starts) or the truth")
     ap.add_argument("--ball", type=float, default=0.01, help="start ball's sd, as a share of each prior width")
