@@ -6,7 +6,8 @@
 #   fuzz    clang, libFuzzer and llvm-symbolizer for scripts/fuzz.sh (docs/internals/FUZZING.md)
 #   report  headless Chromium for scripts/report_screenshot.sh (docs/guide/REPORT.md)
 #   plots   matplotlib for the figure of bench/peers_report.py (bench/RESULTS.md, "Peers")
-#   python  pybind11, numpy and pytest for `import vkrecon` and its tests (docs/guide/PYTHON.md)
+#   python  pybind11, numpy and pytest for `import vkrecon` and its tests (docs/guide/PYTHON.md);
+#           emcee for bench/peers/emcee_peer.py
 #   colmap  COLMAP for scripts/calibrate.sh, photographs to the sparse model `vkrecon init` reads
 set -euo pipefail
 
@@ -40,8 +41,9 @@ for group in "$@"; do
     # chromium renders report.html headless: a screenshot, and the page's console errors.
     report) PACKAGES+=(chromium) ;;
     plots) PACKAGES+=(python3-matplotlib) ;;
-    # pybind11 and Debian's python3 build `import vkrecon` (python/); numpy and pytest run it
-    python) PACKAGES+=(pybind11-dev python3-dev python3-numpy python3-pytest) ;;
+    # pybind11 and Debian's python3 build `import vkrecon` (python/); numpy and pytest run it;
+    # emcee is the sampler's peer on the same likelihood (bench/peers/emcee_peer.py)
+    python) PACKAGES+=(pybind11-dev python3-dev python3-numpy python3-pytest python3-emcee) ;;
     colmap) PACKAGES+=(colmap) ;;
     *) echo "bootstrap: unknown package group '$group' (known: fuzz, report, plots, python, colmap)" >&2; exit 2 ;;
   esac
