@@ -60,24 +60,15 @@ std::vector<double> RandomWalk(const State& s, ChainState& chain, int k, double 
   for (int i = 0; i < d; ++i) z[i] = chain.rng.Normal();
   Eigen::VectorXd step(d);
   bool shaped = false;
-  const Shape shape = ReplicaShape(s, r, temperature);
-  if (shape.covariance.size() && (r.adapt_count >= s.options.adapt_min_samples && s.options.adapt)) {
-    // 2.38²/d (Haario et al. 2001); after settling the burn-in's tuning scales it too: a
-    // likelihood that is rough below its curvature's scale wants smaller steps.
+  // The replica's shape (adapted, or the Laplace approximation once settled) times 2.38²/d
+  // (Haario et al. 2001); after settling the burn-in's tuning scales it too: a likelihood
+  // that is rough below its curvature's scale wants smaller steps.
+  if (const Shape shape = ReplicaShape(s, r, temperature); shape.covariance.size()) {
     Eigen::MatrixXd cov = shape.covariance * (2.38 * 2.38 / double(d));
     if (settled) cov *= std::exp(2.0 * r.log_scale);
     const Eigen::LLT<Eigen::MatrixXd> llt(cov);
     if (llt.info() == Eigen::Success) {
       step = llt.matrixL() * z;
-      shaped = true;
-    }
-  }
-  if (!shaped && settled) {
-    // Settled: the Laplace covariance, scaled like an adapted one and tuned by log_scale.
-    const Eigen::LLT<Eigen::MatrixXd> llt(s.laplace);
-    if (llt.info() == Eigen::Success) {
-      step = (2.38 / std::sqrt(double(d))) * std::sqrt(temperature) * std::exp(r.log_scale) *
-             (Eigen::MatrixXd(llt.matrixL()) * z);
       shaped = true;
     }
   }
