@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <cstdio>
 
+#include "pipelines/likelihood/SandwichAdjustment.h"
 #include "recon/AtomicWrite.h"
 
 namespace fs = std::filesystem;
@@ -40,14 +41,34 @@ void LikelihoodTarget::SetLevel(int level) {
 
 std::vector<double> LikelihoodTarget::Evaluate(const std::vector<std::vector<double>>& batch) {
   std::vector<double> out;
-  for (const Evaluation& e : likelihood_.Evaluate(batch)) out.push_back(e.total() / calibration_.kappa);
+  const NoiseCalibration& c = calibration_;
+  const std::vector<Evaluation> scored = likelihood_.Evaluate(batch);
+  // The curvature adjustment is measured at full resolution; the coarse levels (the search's,
+  // before any calibration) keep the magnitude adjustment.
+  const bool adjusted = c.CurvatureAdjusted() && level_ == 0;
+  for (size_t k = 0; k < scored.size(); ++k) {
+    const double total = scored[k].total();
+    out.push_back(adjusted ? c.centre_total / c.kappa +
+                                 CurvatureRatio(c.adjusted_curvature, c.raw_curvature, c.adjustment_centre, batch[k]) *
+                                     (total - c.centre_total)
+                           : total / c.kappa);
+  }
   if (on_evaluate_) on_evaluate_(level_, batch.size());
   return out;
 }
 
 nlohmann::json LikelihoodTarget::Calibrate(const std::vector<double>& psi, const std::vector<double>& covariance) {
-  calibration_ = CalibrateNoise(likelihood_, psi, covariance, calibration_.kappa, estimate_sigma_, mask_clutter_,
-                                scene_.likelihood.sandwich_blocks);
+  // The covariance is the target's: the raw log-likelihood's is κΣ under the magnitude
+  // adjustment and Σ A H⁻¹ under the curvature adjustment (SandwichAdjustment.h).
+  std::vector<double> raw = covariance;
+  double kappa = calibration_.kappa;
+  if (calibration_.CurvatureAdjusted()) {
+    raw = RawInverseCurvature(covariance, calibration_.adjusted_curvature, calibration_.raw_curvature);
+    kappa = 1.0;
+  }
+  const bool curvature = scene_.likelihood.sandwich_adjustment == "curvature";
+  calibration_ = CalibrateNoise(likelihood_, psi, raw, kappa, estimate_sigma_, mask_clutter_,
+                                scene_.likelihood.sandwich_blocks, 2.0, curvature);
   calibrated_ = true;
   return CalibrationJson();
 }
@@ -76,6 +97,10 @@ nlohmann::json LikelihoodTarget::RefitAt(const std::vector<double>& psi) {
   calibration_.kappa_max = sandwich.kappa_max;
   calibration_.blocks = sandwich.blocks;
   calibration_.block = sandwich.block;
+  // The adjustment's shape too, centred where the round settled (its level there is new).
+  calibration_.adjusted_curvature = sandwich.adjusted_curvature;
+  calibration_.raw_curvature = sandwich.raw_curvature;
+  if (sandwich.CurvatureAdjusted()) calibration_.adjustment_centre = psi;
   return CalibrationJson();
 }
 

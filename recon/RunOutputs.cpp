@@ -158,6 +158,7 @@ nlohmann::json SettingsJson(const RunContext& run, const opt::Sampler& sampler) 
                       {"sandwich_blocks", scene.likelihood.sandwich_blocks == 0
                                               ? nlohmann::json("auto")
                                               : nlohmann::json(scene.likelihood.sandwich_blocks)},
+                      {"sandwich_adjustment", scene.likelihood.sandwich_adjustment},
                       {"partners", scene.likelihood.partners},
                       {"partner_ranking", scene.likelihood.partner_ranking}}},
       {"sampler", opt::ToJson(sampler.options())},

@@ -11,7 +11,10 @@
 #                                          every result into OUT/ (DEVICE_CHECK_DEFAULT_RUNS="box
 #                                          house": runs of those assets with the sampler's and
 #                                          likelihood's defaults too; DEVICE_CHECK_MERTON_SEEDS="1 2":
-#                                          runs of the Merton example; DEVICE_CHECK_STEPS: which steps)
+#                                          runs of the Merton example; DEVICE_CHECK_NOISE_VARIANTS=
+#                                          "LABEL:K=V,K=V …": the noise study once per variant, side
+#                                          by side, over DEVICE_CHECK_NOISE_ASSETS and _SIGMAS, with
+#                                          DEVICE_CHECK_NOISE_ARGS; DEVICE_CHECK_STEPS: which steps)
 #   bench/device_report.py OUT             back here: the "On a GPU" section of bench/RESULTS.md
 #
 # The bundle carries its own glibc and loader too: if the machine's libc is older than
@@ -157,7 +160,7 @@ run() {
   cat "$out/machine.txt"
   # DEVICE_CHECK_STEPS picks the steps (all by default), so a second call can spend its
   # minutes on what the first did not measure.
-  for step in ${DEVICE_CHECK_STEPS:-agree bench house defaults merton}; do
+  for step in ${DEVICE_CHECK_STEPS:-agree bench house defaults merton noise}; do
     echo "== $step"
     local start=$SECONDS
     "step_$step" "$vk" "$out"
@@ -221,6 +224,34 @@ print("merton seed", sys.argv[2], json.dumps(m["sampling"]), "log_posterior", m[
     tail -1 "$out/run.txt"
     rm -rf "$dir"
   done
+}
+
+# The noise study (scripts/noise_study.py) once per variant of DEVICE_CHECK_NOISE_VARIANTS
+# ("LABEL:K=V,K=V", the --set options of that variant), all at once (one run does not fill the
+# GPU). Each variant's noise_study.json and every run's map.json come back in one archive;
+# scripts/calibration_summary.py reads them.
+step_noise() {  # VKRECON OUT
+  local vk=$1 out=$2 spec label work
+  local wrapper=$PWD/$BUNDLE/bin/vk
+  printf '#!/bin/sh\nexec %s "$@"\n' "$vk" >"$wrapper" && chmod +x "$wrapper"
+  for spec in ${DEVICE_CHECK_NOISE_VARIANTS:-}; do
+    label=${spec%%:*} work=/tmp/device_noise/$label
+    local sets=() kv kvs
+    if [ "$spec" != "$label" ]; then
+      IFS=, read -r -a kvs <<<"${spec#*:}"
+      for kv in "${kvs[@]}"; do sets+=(--set "$kv"); done
+    fi
+    mkdir -p "$work"
+    VKRECON=$wrapper timeout "${DEVICE_CHECK_NOISE_S:-400}" python3 scripts/noise_study.py \
+      --assets "${DEVICE_CHECK_NOISE_ASSETS:-box,house,stairs,poster}" --sigmas "${DEVICE_CHECK_NOISE_SIGMAS:-8,16,32}" \
+      "${sets[@]}" ${DEVICE_CHECK_NOISE_ARGS:-} --work "$work" --report "$work/report.md" --plot "$work/plot.svg" >"$work/log.txt" 2>&1 &
+  done
+  wait || true
+  (cd /tmp/device_noise && find . -name map.json -o -name noise_study.json -o -name log.txt -o -name report.md |
+     tar czf "$out/noise.tar.gz" -T -) || true
+  for work in /tmp/device_noise/*; do
+    [ -f "$work/noise_study.json" ] && python3 scripts/calibration_summary.py "$(basename "$work")=$work/noise_study.json"
+  done | tee "$out/noise.txt"
 }
 
 # The sampler at its defaults: ASSET's scene without its likelihood and sampler blocks, on

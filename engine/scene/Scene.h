@@ -149,6 +149,10 @@ struct LikelihoodSettings {
   // NoiseCalibration.h): 8, 16, 32 or 64; 0 ("auto", the default) takes the largest κ over
   // those sizes.
   int sandwich_blocks = 0;
+  // How the sandwich adjusts the log-likelihood (NoiseCalibration.h): "magnitude" divides it
+  // by κ, the mean of H⁻¹J's eigenvalues, in every direction alike; "curvature" gives each
+  // direction its own factor, so the posterior's covariance is the sandwich H⁻¹JH⁻¹.
+  std::string sandwich_adjustment = "magnitude";
   // The image-space likelihood only (docs/internals/IMAGE_SPACE.md): 0 compares every ordered
   // camera pair; k > 0 each target camera with its k best sources, ranked by `partner_ranking`
   // ("distance": nearest centres, "direction": most similar optical axes).

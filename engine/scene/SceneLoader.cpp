@@ -74,7 +74,7 @@ bool IsWord(const Reader& r, const Json& j, const std::string& path, const char*
 void ReadLikelihood(const Reader& r, const Json& j, LikelihoodSettings& s) {
   const std::string path = "likelihood";
   r.CheckObject(j, path, {"kind", "sigma", "weights", "atlas", "levels", "charts", "photometric", "clutter", "slot_images",
-                         "partners", "partner_ranking", "sandwich_blocks"});
+                         "partners", "partner_ranking", "sandwich_blocks", "sandwich_adjustment"});
   if (auto it = j.find("kind"); it != j.end()) {
     s.kind = r.String(*it, "likelihood.kind");
     if (s.kind != "surface" && s.kind != "image")
@@ -132,6 +132,12 @@ void ReadLikelihood(const Reader& r, const Json& j, LikelihoodSettings& s) {
     if (s.sandwich_blocks & (s.sandwich_blocks - 1))
       r.Fail("likelihood.sandwich_blocks", "blocks of " + std::to_string(s.sandwich_blocks) +
                                                " texels: expected 8, 16, 32, 64 or \"auto\"");
+  }
+  if (auto it = j.find("sandwich_adjustment"); it != j.end()) {
+    s.sandwich_adjustment = r.String(*it, "likelihood.sandwich_adjustment");
+    if (s.sandwich_adjustment != "magnitude" && s.sandwich_adjustment != "curvature")
+      r.Fail("likelihood.sandwich_adjustment",
+             "unknown adjustment '" + s.sandwich_adjustment + "' (magnitude, curvature)");
   }
   // Whether k exceeds the other cameras is checked where the cameras are known
   // (ImageLikelihoodOptions::FromScene).

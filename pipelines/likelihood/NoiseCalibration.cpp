@@ -8,6 +8,8 @@
 #include <Eigen/Dense>
 #include <nlohmann/json.hpp>
 
+#include "pipelines/likelihood/SandwichAdjustment.h"
+
 namespace vkr {
 namespace {
 
@@ -20,10 +22,15 @@ const Image* FindImage(const LikelihoodDump& dump, const std::string& name) {
 }  // namespace
 
 nlohmann::json ToJson(const NoiseCalibration& c) {
-  return {{"sigma", c.sigma},         {"position_sd", c.position_sd}, {"sigma_estimated", c.sigma_estimated},
-          {"kappa", c.kappa},         {"kappa_min", c.kappa_min},     {"kappa_max", c.kappa_max},
-          {"blocks", c.blocks},       {"block", c.block},             {"chi2_per_dof", c.chi2_per_dof}, {"photometric", c.photometric},
-          {"curvature_doubtful", c.CurvatureDoubtful()}};
+  nlohmann::json json = {
+      {"sigma", c.sigma},   {"position_sd", c.position_sd}, {"sigma_estimated", c.sigma_estimated},
+      {"kappa", c.kappa},   {"kappa_min", c.kappa_min},     {"kappa_max", c.kappa_max},
+      {"blocks", c.blocks}, {"block", c.block},             {"chi2_per_dof", c.chi2_per_dof},
+      {"photometric", c.photometric}, {"curvature_doubtful", c.CurvatureDoubtful()}};
+  if (c.CurvatureAdjusted())
+    json["curvature_adjustment"] = {{"adjusted", c.adjusted_curvature}, {"raw", c.raw_curvature},
+                                    {"centre", c.adjustment_centre},     {"centre_total", c.centre_total}};
+  return json;
 }
 
 double KappaFromJson(const nlohmann::json& calibration) {
@@ -52,6 +59,16 @@ NoiseCalibration NoiseCalibrationFromJson(const nlohmann::json& j) {
     // Checkpoints written before the block size was chosen have none: 8.
     c.block = j.contains("block") ? count(j.at("block"), "block") : 8;
     c.chi2_per_dof = j.at("chi2_per_dof").get<double>();
+    if (const auto a = j.find("curvature_adjustment"); a != j.end()) {
+      c.adjusted_curvature = a->at("adjusted").get<std::vector<double>>();
+      c.raw_curvature = a->at("raw").get<std::vector<double>>();
+      c.adjustment_centre = a->at("centre").get<std::vector<double>>();
+      c.centre_total = a->at("centre_total").get<double>();
+      const size_t d = c.adjustment_centre.size();
+      if (d == 0 || c.adjusted_curvature.size() != d * d || c.raw_curvature.size() != d * d)
+        throw std::invalid_argument("curvature_adjustment's matrices are not d × d for its centre of " +
+                                    std::to_string(d));
+    }
     if (!(c.sigma > 0.0) || !(c.kappa > 0.0) || !(c.position_sd >= 0.0))
       throw std::invalid_argument("sigma, position_sd or kappa out of range");
     return c;
@@ -97,7 +114,8 @@ std::optional<BlockSandwich> SandwichOverBlocks(const std::vector<std::vector<do
     const Eigen::VectorXcd eigen = m.eigenvalues();
     const double kappa = std::clamp(m.trace() / double(d), 1e-3, 1e6);
     if (!chosen || kappa > chosen->kappa)
-      chosen = BlockSandwich{kappa, eigen.real().minCoeff(), eigen.real().maxCoeff(), blocks, side};
+      chosen = BlockSandwich{kappa, eigen.real().minCoeff(), eigen.real().maxCoeff(), blocks, side,
+                             std::vector<double>(j.data(), j.data() + j.size())};
   }
   return chosen;
 }
@@ -121,7 +139,7 @@ std::vector<double> TexelLogLikelihood(const LikelihoodDump& dump, bool chi2_cor
 
 // κ from the per-texel score at ψ (finite differences over ± one sd of each parameter).
 void SandwichFactor(Likelihood& likelihood, const std::vector<double>& psi, const Eigen::MatrixXd& inverse_h,
-                    int sandwich_blocks, NoiseCalibration* c) {
+                    int sandwich_blocks, bool curvature_adjustment, NoiseCalibration* c) {
   const int d = int(psi.size());
   const bool correction = likelihood.model().chi2_correction;
   std::vector<std::vector<double>> gradient(static_cast<size_t>(d));  // per parameter, per texel
@@ -147,6 +165,14 @@ void SandwichFactor(Likelihood& likelihood, const std::vector<double>& psi, cons
     c->kappa_max = s->kappa_max;
     c->blocks = s->blocks;
     c->block = s->block;
+    if (curvature_adjustment && !s->j.empty()) {
+      c->adjusted_curvature = AdjustedCurvature(inverse, s->j);
+      if (c->CurvatureAdjusted()) {
+        const Eigen::MatrixXd h = inverse_h.inverse();
+        c->raw_curvature.assign(h.data(), h.data() + h.size());  // symmetric: either order
+        c->adjustment_centre = psi;
+      }
+    }
   }
 }
 
@@ -199,7 +225,8 @@ void EstimateSigmaAndDelta(Likelihood& likelihood, const std::vector<double>& ps
 
 NoiseCalibration CalibrateNoise(Likelihood& likelihood, const std::vector<double>& psi,
                                 const std::vector<double>& covariance, double current_kappa,
-                                bool estimate_sigma, bool mask_clutter, int sandwich_blocks, double sigma_floor) {
+                                bool estimate_sigma, bool mask_clutter, int sandwich_blocks, double sigma_floor,
+                                bool curvature_adjustment) {
   const int level = likelihood.level();
   likelihood.SetLevel(0);
   NoiseCalibration c;
@@ -226,8 +253,10 @@ NoiseCalibration CalibrateNoise(Likelihood& likelihood, const std::vector<double
   const ReducedScalars before = likelihood.Evaluate({psi})[0].scalars;
   likelihood.SetSigma(c.sigma);
   likelihood.SetPositionSd(c.position_sd);
-  const ReducedScalars after = likelihood.Evaluate({psi})[0].scalars;
+  const Evaluation at_psi = likelihood.Evaluate({psi})[0];
+  const ReducedScalars& after = at_psi.scalars;
   c.chi2_per_dof = Chi2PerDof(after, c.sigma);
+  c.centre_total = at_psi.total();
   const size_t d = psi.size();
   if (covariance.size() == d * d && d > 0) {
     // The curvature of the raw log-likelihood under the new noise model: undo κ, and scale
@@ -240,7 +269,7 @@ NoiseCalibration CalibrateNoise(Likelihood& likelihood, const std::vector<double
     const double chi_after = after.sum_squares / std::pow(c.sigma / 255.0, 2);
     const double precision_ratio = chi_before > 0.0 && chi_after > 0.0 ? chi_after / chi_before : 1.0;
     inverse_h *= 1.0 / precision_ratio / current_kappa;
-    SandwichFactor(likelihood, psi, inverse_h, sandwich_blocks, &c);
+    SandwichFactor(likelihood, psi, inverse_h, sandwich_blocks, curvature_adjustment, &c);
   }
   likelihood.SetLevel(level);
   return c;

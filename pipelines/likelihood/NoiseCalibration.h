@@ -49,6 +49,12 @@ struct NoiseCalibration {
   int blocks = 0;                // blocks of texels that carried a gradient
   int block = 8;                 // texels per side of those blocks (SandwichOverBlocks)
   double chi2_per_dof = 0.0;     // S/σ²/N at the mode with the σ above
+  // The curvature adjustment (SandwichAdjustment.h), when asked for and J could be measured:
+  // A = H J⁻¹ H and H (d × d row-major; empty: the magnitude adjustment alone), the mode ψ*
+  // they are centred on, and the log-likelihood + occlusion prior there, undivided.
+  std::vector<double> adjusted_curvature, raw_curvature, adjustment_centre;
+  double centre_total = 0.0;
+  bool CurvatureAdjusted() const { return !adjusted_curvature.empty(); }
   nlohmann::json photometric;    // the per-camera colour correction (Photometric.h), or null
   // What the photographs show that the scene leaves out, masked from then on (ClutterMasks.h;
   // not in ToJson: images travel as files, recon/LikelihoodTarget.h keeps them).
@@ -74,6 +80,7 @@ struct BlockSandwich {
   double kappa_min = 1.0, kappa_max = 1.0;  // eigenvalue range of H⁻¹J
   int blocks = 0;                           // blocks that carried a gradient
   int block = 8;                            // texels per side
+  std::vector<double> j;                    // J over those blocks (d × d row-major)
 };
 
 // `gradient`: per parameter, per texel (row-major, `width` wide) the score ∂ log L_t/∂ψ_i;
@@ -101,9 +108,11 @@ double KappaFromJson(const nlohmann::json& calibration);
 // 8 % too large outscored the truth; from σ = 2 on the truth wins clearly. `covariance` (d × d row-major) is the
 // inverse curvature of log L / `current_kappa` at ψ with the σ the likelihood had; an empty
 // one, or a likelihood whose dumps carry no deviation image (image-space kind), leaves κ = 1.
+// `curvature_adjustment`: the sandwich's curvature adjustment as well, centred on ψ
+// (`covariance` must then be the raw log-likelihood's: `current_kappa` 1).
 NoiseCalibration CalibrateNoise(Likelihood& likelihood, const std::vector<double>& psi,
                                 const std::vector<double>& covariance, double current_kappa,
                                 bool estimate_sigma, bool mask_clutter, int sandwich_blocks = kSandwichBlocksAuto,
-                                double sigma_floor = 2.0);
+                                double sigma_floor = 2.0, bool curvature_adjustment = false);
 
 }  // namespace vkr

@@ -277,6 +277,8 @@ TEST(BadInput, VersionAndSettings) {
   EXPECT_TRUE(LoadFails(dir, scene, {"likelihood.sandwich_blocks", "[8, 64]"}));
   scene["likelihood"] = Json{{"sandwich_blocks", "largest"}};
   EXPECT_TRUE(LoadFails(dir, scene, {"likelihood.sandwich_blocks", "8, 16, 32 or 64", "'largest'"}));
+  scene["likelihood"] = Json{{"sandwich_adjustment", "matrix"}};
+  EXPECT_TRUE(LoadFails(dir, scene, {"likelihood.sandwich_adjustment", "'matrix'", "magnitude, curvature"}));
   scene.erase("likelihood");
   scene["synth"] = Json{{"sun", {0, 95}}};
   EXPECT_TRUE(LoadFails(dir, scene, {"synth.sun[1]", "must be in (0, 90]"}));
