@@ -48,6 +48,9 @@ std::vector<double> LikelihoodTarget::Evaluate(const std::vector<std::vector<dou
 nlohmann::json LikelihoodTarget::Calibrate(const std::vector<double>& psi, const std::vector<double>& covariance) {
   calibration_ = CalibrateNoise(likelihood_, psi, covariance, calibration_.kappa, estimate_sigma_, mask_clutter_,
                                 scene_.likelihood.sandwich_blocks);
+  // A fixed `likelihood.kappa` replaces the estimate (kept only as kappa_min/max's report), so
+  // that several scenes' evidences are of one likelihood (docs/guide/WHICH_SCENE.md).
+  if (scene_.likelihood.kappa > 0.0) calibration_.kappa = scene_.likelihood.kappa;
   calibrated_ = true;
   return CalibrationJson();
 }

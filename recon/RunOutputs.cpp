@@ -158,6 +158,9 @@ nlohmann::json SettingsJson(const RunContext& run, const opt::Sampler& sampler) 
                       {"sandwich_blocks", scene.likelihood.sandwich_blocks == 0
                                               ? nlohmann::json("auto")
                                               : nlohmann::json(scene.likelihood.sandwich_blocks)},
+                      {"kappa", scene.likelihood.kappa > 0.0 ? nlohmann::json(scene.likelihood.kappa)
+                                                             : nlohmann::json("auto")},
+                      {"position_sd", scene.likelihood.position_sd},
                       {"partners", scene.likelihood.partners},
                       {"partner_ranking", scene.likelihood.partner_ranking}}},
       {"sampler", opt::ToJson(sampler.options())},

@@ -149,6 +149,13 @@ struct LikelihoodSettings {
   // NoiseCalibration.h): 8, 16, 32 or 64; 0 ("auto", the default) takes the largest κ over
   // those sizes.
   int sandwich_blocks = 0;
+  // κ, the factor the log-likelihood is divided by: 0 ("auto", the default) estimates it at the
+  // mode by the block sandwich; a number fixes it, so that runs of several scenes score one
+  // likelihood (`vkrecon compare`, docs/guide/WHICH_SCENE.md).
+  double kappa = 0.0;
+  // δ in pixels, the noise's texture term (σ² + δ²|∇I|²): used as given with a fixed `sigma`,
+  // estimated with it under "auto".
+  double position_sd = 0.5;
   // The image-space likelihood only (docs/internals/IMAGE_SPACE.md): 0 compares every ordered
   // camera pair; k > 0 each target camera with its k best sources, ranked by `partner_ranking`
   // ("distance": nearest centres, "direction": most similar optical axes).
