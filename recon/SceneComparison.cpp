@@ -92,64 +92,37 @@ nlohmann::json ReadOnRoot(const fs::path& run_folder, const Ranks& ranks) {
   ranks.Broadcast(&text);
   const nlohmann::json map = nlohmann::json::parse(text, nullptr, false);
   if (map.is_discarded() || !map.contains("evidence"))
-    throw std::runtime_error((run_folder / "map.json").string() +
-                             ": the reference run wrote no evidence (too short to record the ladder?)");
+    throw InputError((run_folder / "map.json").string(), "evidence",
+                     "missing: the run recorded no evidence (run without sampler.evidence_rungs, or too few "
+                     "iterations to record the ladder)");
   return map;
 }
 
-}  // namespace
-
-std::vector<ComparedScene> CompareScenes(const CompareOptions& options, vk::Device& device) {
-  const std::vector<CompareInput> inputs = ResolveInputs(options.inputs);
-  const Ranks& ranks = options.base.ranks ? *options.base.ranks : Ranks::One();
-  std::ostream* log = options.base.log;
-  // compare's own settings first, so that --set can change them: the ladder, and no clutter
-  // masks (each scene would mask what it fails to explain: other data for every scene).
-  std::vector<SceneOverride> overrides = {{"sampler.evidence_rungs", std::to_string(options.rungs)},
-                                          {"likelihood.clutter", "false"}};
-  overrides.insert(overrides.end(), options.overrides.begin(), options.overrides.end());
-
-  // Every scene loads (bad input ends the command before any run) and sees the same photographs.
+// Every input's scene loads (bad input ends the command before any run) and sees the same
+// photographs; the scenes to run, in order. `finished`: the first finished run, if any.
+std::vector<ListedScene> LoadAndCheck(const std::vector<CompareInput>& inputs,
+                                      const std::vector<SceneOverride>& overrides, std::ostream* log,
+                                      const CompareInput** finished) {
   std::vector<ListedScene> to_run;
   std::optional<Scene> first;
-  const CompareInput* finished = nullptr;
   for (const CompareInput& in : inputs) {
     std::optional<Scene> scene;
     if (!in.scene_file.empty()) {
       scene = LoadSearchScene(in.scene_file, overrides);
       to_run.push_back({in.name, in.scene_file});
     } else {
-      if (!finished) finished = &in;
+      if (!*finished) *finished = &in;
       scene = SceneOfRun(in.run_folder);
       if (!scene && log) *log << "vkrecon compare: " << in.name << ": its scene file is gone: photographs not checked\n";
     }
     if (scene && first) CheckSamePhotographs(*first, *scene);
     if (scene && !first) first = std::move(scene);
   }
+  return to_run;
+}
 
-  // The common calibration: a finished run's, else the first scene's, run first as it would
-  // run alone; the others then score with its σ, δ and κ.
-  std::vector<ListedScene> rest = to_run;
-  if (finished) {
-    const nlohmann::json map = ReadOnRoot(finished->run_folder, ranks);
-    const auto fixed = FixedLikelihood(map["evidence"].value("likelihood", nlohmann::json()),
-                                       finished->run_folder / "map.json");
-    overrides.insert(overrides.end(), fixed.begin(), fixed.end());
-  } else if (!to_run.empty()) {
-    if (log) *log << "vkrecon compare: " << to_run.front().name << " first: its run calibrates the likelihood\n";
-    ReconstructList({to_run.front()}, overrides, options.base, ranks, device);
-    const fs::path folder = options.base.output_dir / to_run.front().name;
-    const auto fixed = FixedLikelihood(ReadOnRoot(folder, ranks)["evidence"].value("likelihood", nlohmann::json()),
-                                       folder / "map.json");
-    overrides.insert(overrides.end(), fixed.begin(), fixed.end());
-    rest.erase(rest.begin());
-  }
-  if (!rest.empty()) {
-    if (log) *log << "vkrecon compare: " << rest.size() << " scene(s) under that likelihood\n";
-    ReconstructList(rest, overrides, options.base, ranks, device);
-  }
-  if (ranks.rank() != 0) return {};
-
+// Rank 0, after the runs: every input's row, the checks and the table's maths, the table written.
+std::vector<ComparedScene> WriteTable(const std::vector<CompareInput>& inputs, const CompareOptions& options) {
   std::vector<ComparedScene> rows;
   for (const CompareInput& in : inputs) {
     const fs::path folder = in.run_folder.empty() ? options.base.output_dir / in.name : in.run_folder;
@@ -163,6 +136,45 @@ std::vector<ComparedScene> CompareScenes(const CompareOptions& options, vk::Devi
   WriteAtomically(options.base.output_dir / "compare.json", ToJson(rows).dump(2) + "\n");
   WriteAtomically(options.base.output_dir / "compare.md", MarkdownTable(rows));
   return rows;
+}
+
+}  // namespace
+
+std::vector<ComparedScene> CompareScenes(const CompareOptions& options, vk::Device& device) {
+  const std::vector<CompareInput> inputs = ResolveInputs(options.inputs);
+  const Ranks& ranks = options.base.ranks ? *options.base.ranks : Ranks::One();
+  std::ostream* log = options.base.log;
+  // compare's own settings first, so that --set can change them: the ladder, and no clutter
+  // masks (each scene would mask what it fails to explain: other data for every scene).
+  std::vector<SceneOverride> overrides = {{"sampler.evidence_rungs", std::to_string(options.rungs)},
+                                          {"likelihood.clutter", "false"}};
+  overrides.insert(overrides.end(), options.overrides.begin(), options.overrides.end());
+  const CompareInput* finished = nullptr;
+  std::vector<ListedScene> rest = LoadAndCheck(inputs, overrides, log, &finished);
+  // A map.json left by an earlier compare into OUT must not stand in for a run that fails now.
+  if (ranks.rank() == 0)
+    for (const ListedScene& scene : rest) fs::remove(options.base.output_dir / scene.name / "map.json");
+
+  // The common calibration: a finished run's, else the first scene's, run first as it would
+  // run alone; the others then score with its σ, δ and κ.
+  fs::path reference;
+  if (finished) {
+    reference = finished->run_folder;
+  } else {
+    if (log) *log << "vkrecon compare: " << rest.front().name << " first: its run calibrates the likelihood\n";
+    ReconstructList({rest.front()}, overrides, options.base, ranks, device);
+    reference = options.base.output_dir / rest.front().name;
+    rest.erase(rest.begin());
+  }
+  const auto fixed = FixedLikelihood(ReadOnRoot(reference, ranks)["evidence"].value("likelihood", nlohmann::json()),
+                                     reference / "map.json");
+  overrides.insert(overrides.end(), fixed.begin(), fixed.end());
+  if (!rest.empty()) {
+    if (log) *log << "vkrecon compare: " << rest.size() << " scene(s) under that likelihood\n";
+    ReconstructList(rest, overrides, options.base, ranks, device);
+  }
+  if (ranks.rank() != 0) return {};
+  return WriteTable(inputs, options);
 }
 
 }  // namespace vkr::recon
