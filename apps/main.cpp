@@ -19,6 +19,7 @@ struct Subcommand {
 constexpr Subcommand kSubcommands[] = {
     {"init", vkr::app::RunInit, "a COLMAP sparse model to a Z-up scene folder with a starter scene"},
     {"run", vkr::app::RunRun, "reconstruct: sample the parameters against the photographs"},
+    {"compare", vkr::app::RunCompare, "which of several scenes the photographs support: log evidence, Bayes factors"},
     {"fit", vkr::app::RunFit, "MAP only: search the parameters' mode with an NLopt method (no intervals)"},
     {"report", vkr::app::RunReport, "write a run's report.html again from its output folder"},
     {"synth", vkr::app::RunSynth, "render reference images of a textured scene at given parameters"},

@@ -69,6 +69,9 @@ nlohmann::json LikelihoodTarget::Calibrate(const std::vector<double>& psi, const
   const bool curvature = scene_.likelihood.sandwich_adjustment == "curvature";
   calibration_ = CalibrateNoise(likelihood_, psi, raw, kappa, estimate_sigma_, mask_clutter_,
                                 scene_.likelihood.sandwich_blocks, 2.0, curvature);
+  // A fixed `likelihood.kappa` replaces the estimate (kept only as kappa_min/max's report), so
+  // that several scenes' evidences are of one likelihood (docs/guide/WHICH_SCENE.md).
+  if (scene_.likelihood.kappa > 0.0) calibration_.kappa = scene_.likelihood.kappa;
   calibrated_ = true;
   return CalibrationJson();
 }

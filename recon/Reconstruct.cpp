@@ -344,6 +344,20 @@ void WriteOutputs(const RunContext& run, const opt::Sampler& sampler, const nloh
   if (run.Say() && summary->sampler.evidence) *run.Say() << opt::BriefReport(*summary->sampler.evidence) << "\n";
 }
 
+// What the evidence is of: the noise model the ladder scored with, and which of its numbers
+// the scene fixed (two runs' evidences compare only under one likelihood).
+nlohmann::json EvidenceLikelihood(const Scene& scene, const nlohmann::json& calibration) {
+  if (!calibration.is_object() || !calibration.contains("sigma")) return nullptr;
+  return {{"sigma", calibration["sigma"]},
+          {"position_sd", calibration.value("position_sd", scene.likelihood.position_sd)},
+          {"kappa", calibration.value("kappa", 1.0)},
+          {"sigma_fixed", !scene.likelihood.sigma_auto},
+          {"kappa_fixed", scene.likelihood.kappa > 0.0},
+          {"kind", scene.likelihood.kind},
+          {"photometric", scene.likelihood.photometric},
+          {"clutter", scene.likelihood.clutter}};
+}
+
 }  // namespace
 
 bool ReconstructOptions::IsValid(std::string* why) const {
@@ -388,6 +402,7 @@ void Reconstruct(const ReconstructOptions& options, vk::Device& device, Reconstr
   // The checkpoint keeps the chains' calibration, which an adoption replaces in the summary
   // (the nuisances refitted at the adopted mode): a resumed finished run reloads its masks.
   const nlohmann::json chains_calibration = summary.sampler.calibration;
+  summary.evidence_likelihood = EvidenceLikelihood(run.scene, chains_calibration);
   Refine(run, *sampler, target, &summary);
   const nlohmann::json exchange =
       run.ranks.distributed() ? ExchangeCost(target.times(), run.ranks, run.scene.sampler.batch) : nlohmann::json();

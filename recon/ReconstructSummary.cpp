@@ -48,6 +48,7 @@ nlohmann::json ReconstructSummary::ToJson() const {
   map["finer_atlas_polish"] = recon::ToJson(finer, sampler);
   if (!clutter_files.empty()) map["calibration"]["clutter"]["files"] = clutter_files;
   map["settings"] = settings;
+  if (map.contains("evidence") && !evidence_likelihood.is_null()) map["evidence"]["likelihood"] = evidence_likelihood;
   map["diagnosis"] = diagnosis.json;
   return map;
 }

@@ -33,6 +33,9 @@ struct ReconstructSummary {
   std::vector<std::string> clutter_files;  // the final clutter masks, relative to output_dir
   Diagnosis diagnosis;             // whether the result can be trusted, and why not
   nlohmann::json settings;         // the effective settings, so that the run can be repeated
+  // The likelihood the evidence ladder sampled (the chains' last calibration): σ, δ, κ and
+  // whether each was fixed by the scene or estimated; map.json's evidence.likelihood.
+  nlohmann::json evidence_likelihood;
   std::filesystem::path output_dir;
   std::vector<std::filesystem::path> written;  // the outputs, map.json among them
 

@@ -153,6 +153,13 @@ struct LikelihoodSettings {
   // by κ, the mean of H⁻¹J's eigenvalues, in every direction alike; "curvature" gives each
   // direction its own factor, so the posterior's covariance is the sandwich H⁻¹JH⁻¹.
   std::string sandwich_adjustment = "magnitude";
+  // κ, the factor the log-likelihood is divided by: 0 ("auto", the default) estimates it at the
+  // mode by the block sandwich; a number fixes it, so that runs of several scenes score one
+  // likelihood (`vkrecon compare`, docs/guide/WHICH_SCENE.md).
+  double kappa = 0.0;
+  // δ in pixels, the noise's texture term (σ² + δ²|∇I|²): used as given with a fixed `sigma`,
+  // estimated with it under "auto".
+  double position_sd = 0.5;
   // The image-space likelihood only (docs/internals/IMAGE_SPACE.md): 0 compares every ordered
   // camera pair; k > 0 each target camera with its k best sources, ranked by `partner_ranking`
   // ("distance": nearest centres, "direction": most similar optical axes).

@@ -74,7 +74,8 @@ bool IsWord(const Reader& r, const Json& j, const std::string& path, const char*
 void ReadLikelihood(const Reader& r, const Json& j, LikelihoodSettings& s) {
   const std::string path = "likelihood";
   r.CheckObject(j, path, {"kind", "sigma", "weights", "atlas", "levels", "charts", "photometric", "clutter", "slot_images",
-                         "partners", "partner_ranking", "sandwich_blocks", "sandwich_adjustment"});
+                         "partners", "partner_ranking", "sandwich_blocks", "sandwich_adjustment", "kappa",
+                         "position_sd"});
   if (auto it = j.find("kind"); it != j.end()) {
     s.kind = r.String(*it, "likelihood.kind");
     if (s.kind != "surface" && s.kind != "image")
@@ -138,6 +139,17 @@ void ReadLikelihood(const Reader& r, const Json& j, LikelihoodSettings& s) {
     if (s.sandwich_adjustment != "magnitude" && s.sandwich_adjustment != "curvature")
       r.Fail("likelihood.sandwich_adjustment",
              "unknown adjustment '" + s.sandwich_adjustment + "' (magnitude, curvature)");
+  }
+  if (auto it = j.find("kappa"); it != j.end() && IsWord(r, *it, "likelihood.kappa", "auto", "a number")) {
+    s.kappa = 0.0;
+  } else if (it != j.end()) {
+    s.kappa = r.Number(*it, "likelihood.kappa");
+    if (!(s.kappa > 0.0 && s.kappa < 1e9)) r.Fail("likelihood.kappa", "kappa " + Num(s.kappa) + " must be > 0 (or \"auto\")");
+  }
+  if (auto it = j.find("position_sd"); it != j.end()) {
+    s.position_sd = r.Number(*it, "likelihood.position_sd");
+    if (!(s.position_sd >= 0.0 && s.position_sd <= 10.0))
+      r.Fail("likelihood.position_sd", "position_sd " + Num(s.position_sd) + " must be in [0, 10] pixels");
   }
   // Whether k exceeds the other cameras is checked where the cameras are known
   // (ImageLikelihoodOptions::FromScene).

@@ -73,6 +73,7 @@ bool ImageLikelihoodOptions::IsValid(std::string* why) const {
 ImageLikelihoodOptions ImageLikelihoodOptions::FromScene(const Scene& scene) {
   ImageLikelihoodOptions o;
   o.model.sigma = scene.likelihood.sigma;
+  o.position_sd = scene.likelihood.position_sd;
   o.levels = ResolvedLikelihood(scene).levels;
   o.max_batch = scene.sampler.batch;
   o.partners = scene.likelihood.partners;

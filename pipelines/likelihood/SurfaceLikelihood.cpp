@@ -75,6 +75,7 @@ SurfaceLikelihoodOptions ResolveSlotImages(const SurfaceLikelihoodOptions& optio
 SurfaceLikelihoodOptions SurfaceLikelihoodOptions::FromScene(const Scene& scene) {
   SurfaceLikelihoodOptions o;
   o.model.sigma = scene.likelihood.sigma;
+  o.model.position_sd = scene.likelihood.position_sd;
   if (!FromString(scene.likelihood.weights, &o.weights))
     throw InputError(scene.file.string(), "likelihood.weights", "must be uniform or angle");
   if (!FromString(scene.likelihood.photometric, &o.photometric))

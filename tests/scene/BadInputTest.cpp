@@ -279,6 +279,12 @@ TEST(BadInput, VersionAndSettings) {
   EXPECT_TRUE(LoadFails(dir, scene, {"likelihood.sandwich_blocks", "8, 16, 32 or 64", "'largest'"}));
   scene["likelihood"] = Json{{"sandwich_adjustment", "matrix"}};
   EXPECT_TRUE(LoadFails(dir, scene, {"likelihood.sandwich_adjustment", "'matrix'", "magnitude, curvature"}));
+  scene["likelihood"] = Json{{"kappa", 0}};
+  EXPECT_TRUE(LoadFails(dir, scene, {"likelihood.kappa", "must be > 0"}));
+  scene["likelihood"] = Json{{"kappa", "estimate"}};
+  EXPECT_TRUE(LoadFails(dir, scene, {"likelihood.kappa", "'estimate'", "\"auto\""}));
+  scene["likelihood"] = Json{{"position_sd", -0.5}};
+  EXPECT_TRUE(LoadFails(dir, scene, {"likelihood.position_sd", "[0, 10]"}));
   scene.erase("likelihood");
   scene["synth"] = Json{{"sun", {0, 95}}};
   EXPECT_TRUE(LoadFails(dir, scene, {"synth.sun[1]", "must be in (0, 90]"}));

@@ -31,7 +31,7 @@ constexpr const char* kDesignExample = R"({
      "transforms": [{"translate": [0, 0, 1]}, {"scale": [1, 1, "rh/h"]}]}
   ],
   "likelihood": {"kind": "surface", "sigma": 8.0, "weights": "angle", "atlas": 1024, "levels": 3,
-                 "sandwich_blocks": 32, "charts": "pixels"},
+                 "sandwich_blocks": 32, "charts": "pixels", "kappa": 12.5, "position_sd": 0.25},
   "sampler": {"iterations": 4000, "chains": 4, "batch": 16, "seed": 1}
 })";
 
@@ -65,6 +65,8 @@ TEST(Load, DesignExample) {
   EXPECT_EQ(s.cameras[0].image, (dir.path() / "house/images/c1.pgm").lexically_normal());
   EXPECT_EQ(s.likelihood.atlas, 1024);
   EXPECT_EQ(s.likelihood.sandwich_blocks, 32);
+  EXPECT_EQ(s.likelihood.kappa, 12.5);
+  EXPECT_EQ(s.likelihood.position_sd, 0.25);
   EXPECT_EQ(s.likelihood.charts, "pixels");
   EXPECT_EQ(s.sampler.chains, 4);
 
@@ -97,6 +99,8 @@ TEST(Load, DefaultsForMissingSections) {
   EXPECT_EQ(s.likelihood.atlas, 0);
   EXPECT_EQ(s.likelihood.levels, 0);
   EXPECT_EQ(s.likelihood.sandwich_blocks, 0);  // "auto"
+  EXPECT_EQ(s.likelihood.kappa, 0.0);  // "auto": estimated at the mode
+  EXPECT_EQ(s.likelihood.position_sd, 0.5);
   EXPECT_EQ(s.likelihood.charts, "area");
   const SamplerSettings d;
   EXPECT_EQ(s.sampler.iterations, d.iterations);
