@@ -18,7 +18,7 @@ int RunPreview(int argc, char** argv) {
       "lens), with buttons that save the values as an --at file or as the scene with them as init. Also "
       "OUT/at.json (the values drawn) and OUT/preview.json (the settings). Needs no Vulkan device. Bad input (a "
       "photograph missing, an --at file with an unknown or missing parameter) exits 2 with one line. "
-      "docs/guide/REAL_PHOTOS.md, \"Preview\".",
+      "docs/guide/REAL_PHOTOS.md, \"Check it before a run\".",
       "preview");
   report::PreviewOptions options;
   std::string scene, at, out;

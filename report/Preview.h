@@ -1,6 +1,6 @@
 #pragma once
 // `vkrecon preview`: a scene checked against its photographs before a run
-// (docs/guide/REAL_PHOTOS.md, "Preview"). Per camera a PNG with the scene's wireframe at the
+// (docs/guide/REAL_PHOTOS.md, "Check it before a run"). Per camera a PNG with the scene's wireframe at the
 // starting values over the photograph, and faintly at each parameter's extremes; and one
 // offline page, preview.html, whose sliders move the wireframe on every photograph live. The
 // page recomputes the scene exactly (the transform graph, the expressions, the lens) in

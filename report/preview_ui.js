@@ -47,7 +47,7 @@
   function set(i, value) {
     values[i] = Math.min(params[i].hi, Math.max(params[i].lo, value));
     sliders[i].value = values[i];
-    numbers[i].value = values[i];
+    numbers[i].value = +values[i].toPrecision(6);  // the full value is in the saved files
     redraw();
   }
   function input(type, value, title, onchange) {
