@@ -34,8 +34,9 @@ class PreviewCli : public ::testing::Test {
     const test::TempDir& dir = *dir_;
     nlohmann::json scene = nlohmann::json::parse(test::ReadText(kBox / "scene.json"));
     scene["nodes"][1]["transforms"] = nlohmann::json::parse(
-        R"([{"translate": ["x", "y", "0"]}, {"rotate": [0, 0, "yaw/2"]}, {"rotate": [0, 0, "-2^2/-4 * yaw/2"]},
-            {"scale": ["w", "max(d, 0.1)", "h > 0 ? sqrt(h^2) : 1"]}])");
+        R"json([{"translate": ["x", "y", "0"]}, {"rotate": [0, 0, "yaw/2"]}, {"rotate": [0, 0, "-2^2/-4 * yaw/2"]},
+            {"scale": ["w", "max(d, 0.1)", "h > 0 ? sqrt(h^2) : 1"]}])json");
+    for (auto& node : scene["nodes"]) node["albedo"] = (kBox / node["albedo"].get<std::string>()).string();
     scene["cameras"] = (dir / "images/cameras.json").string();
     scene["images"] = (dir / "images").string();
     scene["likelihood"]["atlas"] = 64;
