@@ -1,8 +1,9 @@
 #include "report/Preview.h"
 
 #include <algorithm>
+#include <array>
 #include <fstream>
-#include <limits>
+#include <set>
 #include <sstream>
 
 #include "engine/common/InputError.h"
@@ -45,12 +46,18 @@ std::vector<std::vector<double>> Extremes(const Scene& scene, const std::vector<
 std::vector<fs::path> WriteOverlays(const fs::path& dir, const Scene& scene, const SceneGeometry& geometry,
                                     const std::vector<double>& psi) {
   fs::create_directories(dir);
-  std::vector<WireEdge> faint;
-  for (const std::vector<double>& extreme : Extremes(scene, psi)) {
-    std::vector<WireEdge> edges = SceneEdges(scene, geometry, extreme);
-    faint.insert(faint.end(), std::make_move_iterator(edges.begin()), std::make_move_iterator(edges.end()));
-  }
   const std::vector<WireEdge> bright = SceneEdges(scene, geometry, psi);
+  // Edges a parameter does not move (the ground under a box) would be drawn once per extreme,
+  // each faint line over the last until they are solid: each edge is drawn once.
+  std::set<std::array<double, 6>> seen;
+  auto first_time = [&](const WireEdge& e) {
+    return seen.insert({e.a.x(), e.a.y(), e.a.z(), e.b.x(), e.b.y(), e.b.z()}).second;
+  };
+  for (const WireEdge& e : bright) first_time(e);
+  std::vector<WireEdge> faint;
+  for (const std::vector<double>& extreme : Extremes(scene, psi))
+    for (WireEdge& e : SceneEdges(scene, geometry, extreme))
+      if (first_time(e)) faint.push_back(std::move(e));
   std::vector<fs::path> written;
   // The cameras at Ψ throughout: a camera moved by a pose is drawn where it starts.
   for (const Camera& camera : scene.Cameras(psi)) {
