@@ -112,7 +112,7 @@ std::string Page(const Scene& scene, const Json& data, const std::string& figure
        "too. docs/guide/REAL_PHOTOS.md.</p>\n<ul id=\"report-errors\"></ul>\n"
     << "<div id=\"controls\"><div id=\"sliders\"></div>\n<p><button id=\"save-at\">save values (--at JSON)</button> "
        "<button id=\"save-scene\">save scene with these as init</button> <button id=\"reset\">reset</button></p>\n"
-       "<pre id=\"at-json\"></pre></div>\n<div id=\"cameras\">\n"
+       "<pre id=\"at-json\"></pre><pre id=\"scene-json\"></pre></div>\n<div id=\"cameras\">\n"
     << figures << "</div>\n<script type=\"application/json\" id=\"preview-data\">" << data_text
     << "</script>\n<script>\n" << kExpressionJs << kPreviewJs << kPreviewUiJs << "</script>\n</body></html>\n";
   return h.str();

@@ -7,6 +7,7 @@
   var port = previewPort, data = port.data, params = data.parameters, names = port.names;
   var first = params.map(function (p) { return p.value; }), values = first.slice();
   var sliders = [], numbers = [];
+  var canSaveScene = !!(data.scene_json && data.scene_json.parameters);
 
   // The port against vkrecon at the first values: every expression, and each camera's check
   // points (a vertex's pixel through the lens). A disagreement is a console error.
@@ -40,9 +41,11 @@
     names.forEach(function (name, i) { at[name] = values[i]; });
     return JSON.stringify(at, null, 2) + '\n';
   }
+  // The saved files' texts are also in the page (hidden), for a browser test to read.
   function redraw() {
     port.draw(values);
     document.getElementById('at-json').textContent = atJson();
+    if (canSaveScene) document.getElementById('scene-json').textContent = sceneJson();
   }
   function set(i, value) {
     values[i] = Math.min(params[i].hi, Math.max(params[i].lo, value));
@@ -103,7 +106,7 @@
   }
   document.getElementById('save-at').addEventListener('click', function () { download('at.json', atJson()); });
   var saveScene = document.getElementById('save-scene');
-  if (data.scene_json && data.scene_json.parameters) {
+  if (canSaveScene) {
     saveScene.addEventListener('click', function () { download(data.scene_name, sceneJson()); });
     saveScene.title = 'save it beside ' + data.scene_name + ': its relative paths (images, cameras) are relative to it';
   } else {
