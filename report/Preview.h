@@ -6,6 +6,7 @@
 // page recomputes the scene exactly (the transform graph, the expressions, the lens) in
 // JavaScript (report/preview.js), and checks its port against the C++ values when it loads.
 
+#include <cstdint>
 #include <filesystem>
 #include <string>
 #include <utility>
