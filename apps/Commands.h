@@ -24,6 +24,7 @@ int RunFit(int argc, char** argv);
 int RunReport(int argc, char** argv);
 int RunInit(int argc, char** argv);
 int RunCompare(int argc, char** argv);
+int RunPreview(int argc, char** argv);
 
 // Parses argv; returns an exit status when the command should stop now (--help: 0 after
 // printing help; a bad option: 2 after one line naming it), nothing to go on.

@@ -18,6 +18,7 @@ struct Subcommand {
 
 constexpr Subcommand kSubcommands[] = {
     {"init", vkr::app::RunInit, "a COLMAP sparse model to a Z-up scene folder with a starter scene"},
+    {"preview", vkr::app::RunPreview, "a scene's wireframe over its photographs, with sliders: check it before a run"},
     {"run", vkr::app::RunRun, "reconstruct: sample the parameters against the photographs"},
     {"compare", vkr::app::RunCompare, "which of several scenes the photographs support: log evidence, Bayes factors"},
     {"fit", vkr::app::RunFit, "MAP only: search the parameters' mode with an NLopt method (no intervals)"},

@@ -2,17 +2,22 @@
 # Opens a run's report.html in headless Chromium, saves a screenshot, and fails when the page
 # reports an error. The page records every uncaught error, failed resource and console.error
 # in its #report-errors list (report/error_hook.js), which the DOM dump shows; it also marks
-# <body> once its plots are drawn, so a script that never ran is caught too.
-# Usage: scripts/report_screenshot.sh REPORT.html SCREENSHOT.png
+# <body> once its plots are drawn, so a script that never ran is caught too. It checks
+# `vkrecon preview`'s preview.html the same way (its wireframes drawn, data-preview="drawn").
+# Usage: scripts/report_screenshot.sh PAGE.html[#FRAGMENT] SCREENSHOT.png [DOM.html]
+# (the fragment goes to the page, e.g. preview.html's slider values; DOM.html keeps the DOM dump).
 # Exit status: 0 clean, 1 page errors (listed on stderr) or Chromium failed, 2 usage,
 # 77 Chromium not installed (ctest's SKIP_RETURN_CODE; `scripts/bootstrap.sh report` installs it).
 set -euo pipefail
-if [ $# -ne 2 ]; then
-  echo "usage: $0 REPORT.html SCREENSHOT.png" >&2
+if [ $# -lt 2 ] || [ $# -gt 3 ]; then
+  echo "usage: $0 PAGE.html[#FRAGMENT] SCREENSHOT.png [DOM.html]" >&2
   exit 2
 fi
-report=$(realpath "$1")
+fragment=""
+[[ "$1" == *"#"* ]] && fragment="#${1#*#}"
+report=$(realpath -m "${1%%#*}")
 shot=$2
+keep_dom=${3:-}
 if [ ! -f "$report" ]; then
   echo "report_screenshot: $1: no such file" >&2
   exit 2
@@ -30,7 +35,7 @@ trap 'rm -rf "$profile"' EXIT
 flags=(--headless --disable-gpu --no-sandbox --use-angle=swiftshader --enable-unsafe-swiftshader
        --user-data-dir="$profile" --hide-scrollbars --virtual-time-budget=15000 --window-size=1280,2400)
 dom="$profile/dom.html"
-if ! timeout 180 "$CHROMIUM" "${flags[@]}" --dump-dom "file://$report" >"$dom" 2>"$profile/log"; then
+if ! timeout 180 "$CHROMIUM" "${flags[@]}" --dump-dom "file://$report$fragment" >"$dom" 2>"$profile/log"; then
   echo "report_screenshot: chromium failed on $report:" >&2
   tail -5 "$profile/log" >&2
   exit 1
@@ -46,8 +51,14 @@ if grep -q 'Chart.js v' "$report" && ! grep -q 'data-report-charts="drawn"' "$do
   echo "report_screenshot: $report: the plots were not drawn (its script did not finish)" >&2
   status=1
 fi
+# A preview page whose script stopped before it drew.
+if grep -q 'id="preview-data"' "$report" && ! grep -q 'data-preview="drawn"' "$dom"; then
+  echo "report_screenshot: $report: the wireframes were not drawn (its script did not finish)" >&2
+  status=1
+fi
+[ -n "$keep_dom" ] && cp "$dom" "$keep_dom"
 mkdir -p "$(dirname "$shot")"
-if ! timeout 180 "$CHROMIUM" "${flags[@]}" --screenshot="$(realpath -m "$shot")" "file://$report" 2>>"$profile/log" >/dev/null; then
+if ! timeout 180 "$CHROMIUM" "${flags[@]}" --screenshot="$(realpath -m "$shot")" "file://$report$fragment" 2>>"$profile/log" >/dev/null; then
   echo "report_screenshot: chromium could not take the screenshot:" >&2
   tail -5 "$profile/log" >&2
   exit 1

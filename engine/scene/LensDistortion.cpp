@@ -103,6 +103,8 @@ Eigen::Vector2d LensDistortion::Distort(const Eigen::Vector2d& p, Eigen::Matrix2
   return out;
 }
 
+std::array<double, 8> LensDistortion::FullOpenCV() const { return FullCoefficients(*this); }
+
 bool LensDistortion::Undistort(const Eigen::Vector2d& distorted, Eigen::Vector2d* undistorted) const {
   if (IsNone()) {
     *undistorted = distorted;

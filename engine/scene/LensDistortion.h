@@ -42,6 +42,9 @@ struct LensDistortion {
   bool IsNone() const { return model == DistortionModel::None; }
   // Coefficient by COLMAP name (k, k1, …, p2); std::invalid_argument if the model lacks it.
   double Coefficient(const std::string& name) const;
+  // The eight FULL_OPENCV coefficients k1 k2 p1 p2 k3 k4 k5 k6 that give this model (the
+  // ones it lacks at zero): one formula serves every model.
+  std::array<double, 8> FullOpenCV() const;
 
   // Distorted normalised coordinates of the undistorted point `x`; `jacobian`, when given,
   // receives ∂x_d/∂x.

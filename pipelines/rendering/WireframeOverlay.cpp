@@ -11,10 +11,10 @@ namespace vkr {
 namespace {
 
 // Blends `colour` into pixel (x, y) with weight `w`; off the image: nothing.
-void Blend(Image& image, int x, int y, double w, const std::array<float, 3>& colour) {
+void Blend(Image& image, int x, int y, double w, const std::array<float, 3>& colour, float opacity) {
   if (x < 0 || y < 0 || x >= image.width || y >= image.height || w <= 0.0) return;
   float* p = image.At(x, y);
-  const float a = float(std::min(w, 1.0));
+  const float a = float(std::min(w, 1.0)) * opacity;
   for (int c = 0; c < 3; ++c) p[c] = p[c] * (1.0f - a) + colour[size_t(c)] * a;
 }
 
@@ -22,7 +22,8 @@ double Fraction(double x) { return x - std::floor(x); }
 
 // Xiaolin Wu's anti-aliased line between continuous pixel coordinates (pixel (i, j) spans
 // [i, i+1) × [j, j+1), so its centre is at i + 0.5).
-void DrawLine(Image& image, Eigen::Vector2d p0, Eigen::Vector2d p1, const std::array<float, 3>& colour) {
+void DrawLine(Image& image, Eigen::Vector2d p0, Eigen::Vector2d p1, const std::array<float, 3>& colour,
+              float opacity) {
   p0 -= Eigen::Vector2d(0.5, 0.5);  // to centre-at-integer coordinates
   p1 -= Eigen::Vector2d(0.5, 0.5);
   const bool steep = std::abs(p1.y() - p0.y()) > std::abs(p1.x() - p0.x());
@@ -36,7 +37,7 @@ void DrawLine(Image& image, Eigen::Vector2d p0, Eigen::Vector2d p1, const std::a
   const double y_limit = double(steep ? image.width : image.height) + 1.0;
   const double dx = p1.x() - p0.x(), dy = p1.y() - p0.y();
   const double gradient = dx == 0.0 ? 1.0 : dy / dx;
-  auto plot = [&](int x, int y, double w) { steep ? Blend(image, y, x, w, colour) : Blend(image, x, y, w, colour); };
+  auto plot = [&](int x, int y, double w) { steep ? Blend(image, y, x, w, colour, opacity) : Blend(image, x, y, w, colour, opacity); };
   const double x_start = std::max(std::round(p0.x()), -1.0), x_end = std::min(std::round(p1.x()), limit);
   for (double x = x_start; x <= x_end; x += 1.0) {
     // End pixels get the share of the pixel the line covers.
@@ -52,50 +53,65 @@ void DrawLine(Image& image, Eigen::Vector2d p0, Eigen::Vector2d p1, const std::a
   }
 }
 
-// Pixel coordinates of a camera-frame point in front of the camera, through its lens.
-Eigen::Vector2d ToPixel(const Camera& camera, const Eigen::Vector3d& x_cam) {
+}  // namespace
+
+Eigen::Vector2d LensPixel(const Camera& camera, const Eigen::Vector3d& x_cam) {
   Eigen::Vector2d n = x_cam.head<2>() / x_cam.z();
   if (!camera.distortion.IsNone()) n = camera.distortion.Distort(n);
   const Eigen::Vector3d p = camera.K * Eigen::Vector3d(n.x(), n.y(), 1.0);
   return p.head<2>() / p.z();
 }
 
-}  // namespace
+NodeWire WeldWire(const Mesh& mesh) {
+  NodeWire wire;
+  if (mesh.indices.empty()) return wire;
+  // Positions equal to ~1e-6 of the mesh's size are one.
+  Eigen::Vector3f lo = mesh.positions[0], hi = lo;
+  for (const auto& p : mesh.positions) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
+  const double quantum = std::max(1e-6 * double((hi - lo).norm()), 1e-9);
+  std::map<std::tuple<long long, long long, long long>, int> welded;
+  std::vector<int> weld(mesh.positions.size());
+  for (size_t i = 0; i < mesh.positions.size(); ++i) {
+    const Eigen::Vector3f& p = mesh.positions[i];
+    const auto key = std::make_tuple(std::llround(p.x() / quantum), std::llround(p.y() / quantum),
+                                     std::llround(p.z() / quantum));
+    const auto [it, inserted] = welded.emplace(key, int(wire.vertices.size()));
+    if (inserted) wire.vertices.push_back(p.cast<double>());
+    weld[i] = it->second;
+  }
+  std::map<std::pair<int, int>, size_t> index;  // welded vertex pair → edge
+  for (size_t t = 0; t + 2 < mesh.indices.size(); t += 3) {
+    const std::array<int, 3> v = {weld[mesh.indices[t]], weld[mesh.indices[t + 1]], weld[mesh.indices[t + 2]]};
+    const int triangle = int(wire.triangles.size());
+    wire.triangles.push_back(v);
+    for (int k = 0; k < 3; ++k) {
+      const int a = v[size_t(k)], b = v[size_t(k + 1) % 3];
+      if (a == b) continue;
+      const auto [it, inserted] = index.emplace(std::minmax(a, b), wire.edges.size());
+      if (inserted) wire.edges.push_back({std::min(a, b), std::max(a, b), {}});
+      wire.edges[it->second].triangles.push_back(triangle);
+    }
+  }
+  return wire;
+}
 
 std::vector<WireEdge> SceneEdges(const Scene& scene, const SceneGeometry& geometry, const std::vector<double>& psi) {
   const std::vector<Eigen::Matrix4d> world_from_node = scene.WorldFromNode(psi);
   std::vector<WireEdge> edges;
   for (size_t node = 0; node < geometry.meshes.size() && node < world_from_node.size(); ++node) {
-    const Mesh& mesh = geometry.meshes[node];
-    if (mesh.indices.empty()) continue;
-    // Weld: faces repeat their corners; positions equal to ~1e-6 of the mesh's size are one.
-    Eigen::Vector3f lo = mesh.positions[0], hi = lo;
-    for (const auto& p : mesh.positions) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
-    const double quantum = std::max(1e-6 * double((hi - lo).norm()), 1e-9);
-    std::map<std::tuple<long long, long long, long long>, int> welded;
-    std::vector<int> weld(mesh.positions.size());
+    const NodeWire wire = WeldWire(geometry.meshes[node]);
     std::vector<Eigen::Vector3d> world;
-    const Eigen::Matrix4d& m = world_from_node[node];
-    for (size_t i = 0; i < mesh.positions.size(); ++i) {
-      const Eigen::Vector3f& p = mesh.positions[i];
-      const auto key = std::make_tuple(std::llround(p.x() / quantum), std::llround(p.y() / quantum),
-                                       std::llround(p.z() / quantum));
-      const auto [it, inserted] = welded.emplace(key, int(world.size()));
-      if (inserted) world.push_back((m * Eigen::Vector4d(p.x(), p.y(), p.z(), 1.0)).head<3>());
-      weld[i] = it->second;
-    }
-    std::map<std::pair<int, int>, size_t> index;  // welded vertex pair → edge
-    for (size_t t = 0; t + 2 < mesh.indices.size(); t += 3) {
-      const int v[3] = {weld[mesh.indices[t]], weld[mesh.indices[t + 1]], weld[mesh.indices[t + 2]]};
+    for (const Eigen::Vector3d& p : wire.vertices) world.push_back((world_from_node[node] * p.homogeneous()).head<3>());
+    std::vector<Eigen::Vector3d> normals;  // zero for a triangle the transform collapses
+    for (const auto& v : wire.triangles) {
       const Eigen::Vector3d n = (world[size_t(v[1])] - world[size_t(v[0])]).cross(world[size_t(v[2])] - world[size_t(v[0])]);
-      if (!(n.norm() > 0.0)) continue;  // degenerate (or collapsed by the transform)
-      for (int k = 0; k < 3; ++k) {
-        const int a = v[k], b = v[(k + 1) % 3];
-        if (a == b) continue;
-        const auto [it, inserted] = index.emplace(std::minmax(a, b), edges.size());
-        if (inserted) edges.push_back({world[size_t(a)], world[size_t(b)], {}});
-        edges[it->second].normals.push_back(n.normalized());
-      }
+      normals.push_back(n.norm() > 0.0 ? n.normalized() : Eigen::Vector3d::Zero());
+    }
+    for (const NodeWire::Edge& e : wire.edges) {
+      WireEdge edge{world[size_t(e.a)], world[size_t(e.b)], {}};
+      for (int t : e.triangles)
+        if (!normals[size_t(t)].isZero()) edge.normals.push_back(normals[size_t(t)]);
+      if (!edge.normals.empty()) edges.push_back(std::move(edge));
     }
   }
   return edges;
@@ -123,10 +139,10 @@ Image DrawWireframe(const Image& photo, const Camera& camera, const std::vector<
     if (a.z() < kNear && b.z() < kNear) continue;
     if (a.z() < kNear) a = b + (a - b) * ((b.z() - kNear) / (b.z() - a.z()));
     if (b.z() < kNear) b = a + (b - a) * ((a.z() - kNear) / (a.z() - b.z()));
-    Eigen::Vector2d from = ToPixel(camera, a);
+    Eigen::Vector2d from = LensPixel(camera, a);
     for (int k = 1; k <= pieces; ++k) {
-      const Eigen::Vector2d to = ToPixel(camera, a + (b - a) * (double(k) / pieces));
-      if (from.allFinite() && to.allFinite()) DrawLine(out, from, to, options.colour);
+      const Eigen::Vector2d to = LensPixel(camera, a + (b - a) * (double(k) / pieces));
+      if (from.allFinite() && to.allFinite()) DrawLine(out, from, to, options.colour, options.opacity);
       from = to;
     }
   }
