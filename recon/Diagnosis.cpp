@@ -55,6 +55,7 @@ const char* ToString(Diagnosis::Verdict verdict) {
     case Diagnosis::Verdict::Unsettled: return "unsettled";
     case Diagnosis::Verdict::ModelError: return "model_error";
     case Diagnosis::Verdict::Failed: return "failed";
+    case Diagnosis::Verdict::NotDiagnosed: return "none";
   }
   return "failed";
 }
@@ -63,6 +64,7 @@ Diagnosis Diagnose(const Scene& scene, const Evaluation& at_map, double sigma_25
                    const std::vector<NodeResidual>& nodes, const std::vector<Reprojection>& reprojections,
                    const std::vector<double>& clutter_share, const FinerAtlasPolish* finer) {
   Diagnosis d;
+  d.verdict = Diagnosis::Verdict::Ok;  // until a check finds worse
   std::vector<std::string> failed, model, other;
   const ReducedScalars& s = at_map.scalars;
   const double chi2 = Chi2PerDof(s, sigma_255);

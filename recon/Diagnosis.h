@@ -25,8 +25,9 @@ struct Diagnosis {
     Unsettled,     // residuals like noise, but the chains disagree: run longer
     ModelError,    // a large share of some node's surface or photograph disagrees
     Failed,        // the model does not explain the images
+    NotDiagnosed,  // the run stopped before its outputs: nothing was judged ("none")
   };
-  Verdict verdict = Verdict::Ok;
+  Verdict verdict = Verdict::NotDiagnosed;
   std::vector<std::string> notes;  // one sentence each, most serious first
   nlohmann::json json;             // map.json's "diagnosis" (ok, verdict, notes, figures, nodes, cameras)
 

@@ -79,6 +79,10 @@ TEST_F(Reconstruct, AStopCallbackStopsAtTheCheckpoint) {
   EXPECT_FALSE(summary.completed());
   EXPECT_EQ(summary.termination, opt::Termination::Stopped);
   EXPECT_NE(summary.BriefReport().find("resume"), std::string::npos) << summary.BriefReport();
+  // Nothing was judged: a library caller that asks must not read "ok".
+  EXPECT_FALSE(summary.diagnosis.ok());
+  EXPECT_STREQ(ToString(summary.diagnosis.verdict), "none");
+  EXPECT_NE(summary.FullReport().find("diagnosis: none"), std::string::npos) << summary.FullReport();
   EXPECT_TRUE(fs::exists(dir / "out/checkpoint.json"));
   EXPECT_FALSE(fs::exists(dir / "out/map.json"));
   EXPECT_TRUE(summary.written.empty());
