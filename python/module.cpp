@@ -146,10 +146,13 @@ py::array_t<float> Render(const vkr::Scene& scene, std::optional<py::array_t<dou
 }
 
 // A run of `vkrecon run` on a loaded scene (its sampler block says how long). Ctrl-C
-// checkpoints the run, then raises KeyboardInterrupt; `resume=True` continues it.
+// checkpoints the run, then raises KeyboardInterrupt; `resume=True` continues it. `progress`
+// (or None) is called with the evaluations so far and the running MAP after every sampler
+// frame and wherever a search finds a better point; an exception it raises stops the run at
+// its next checkpoint and is raised again.
 vkr::recon::ReconstructSummary Reconstruct(std::shared_ptr<vkr::Scene> scene, const std::filesystem::path& output_dir,
                                            bool resume, double time_limit, int temperatures,
-                                           double checkpoint_seconds, bool quiet) {
+                                           double checkpoint_seconds, bool quiet, py::object progress) {
   vkr::recon::ReconstructOptions options;
   options.scene = scene;
   options.output_dir = output_dir;
@@ -164,6 +167,19 @@ vkr::recon::ReconstructSummary Reconstruct(std::shared_ptr<vkr::Scene> scene, co
     if (!interrupted && PyErr_CheckSignals() != 0) interrupted.emplace();  // takes the KeyboardInterrupt
     return interrupted.has_value();
   };
+  int64_t evaluations = 0;  // hypotheses scored so far, at any pyramid level
+  if (!progress.is_none()) {
+    options.observer.evaluated = [&](int, size_t hypotheses) { evaluations += int64_t(hypotheses); };
+    options.observer.best = [&](const std::vector<double>& psi) {
+      py::gil_scoped_acquire acquire;
+      if (interrupted) return;
+      try {
+        progress(evaluations, py::cast(psi));
+      } catch (py::error_already_set& e) {
+        interrupted.emplace(std::move(e));  // should_stop sees it after this frame
+      }
+    };
+  }
   vkr::recon::ReconstructSummary summary;
   {
     py::gil_scoped_release release;
@@ -239,10 +255,13 @@ void BindReconstruct(py::module_& m) {
 
   m.def("reconstruct", &Reconstruct, py::arg("scene"), py::arg("output_dir"), py::kw_only(),
         py::arg("resume") = false, py::arg("time_limit") = -1.0, py::arg("temperatures") = 0,
-        py::arg("checkpoint_seconds") = 5.0, py::arg("quiet") = true,
+        py::arg("checkpoint_seconds") = 5.0, py::arg("quiet") = true, py::arg("progress") = py::none(),
         "Runs `vkrecon run` on the scene into output_dir (map.json and every other output) and returns "
         "its summary. The scene's sampler block (Scene.load(set=[\"sampler.iterations=200\"])) says how "
-        "long; time_limit < 0: sampler.time_limit. Ctrl-C checkpoints, then raises KeyboardInterrupt.");
+        "long; time_limit < 0: sampler.time_limit. Ctrl-C checkpoints, then raises KeyboardInterrupt. "
+        "progress(evaluations, best): called after every sampler frame (and where a search finds a better "
+        "point) with the hypotheses scored so far (at any pyramid level) and the running MAP (a list, in the scene's "
+        "parameter order); an exception it raises checkpoints the run and is raised again.");
   m.def("render", &Render, py::arg("scene"), py::arg("at") = py::none(), py::arg("camera") = py::none(),
         py::arg("texture") = py::none(), py::arg("scale") = 1.0, py::arg("atlas") = 2048,
         "One scene camera's view at `at` (default: the initial values) as an H x W x 4 float32 array, as "

@@ -113,16 +113,17 @@ def box_run(box, tmp_path_factory):
     """The same short run from Python and from the command line."""
     out = tmp_path_factory.mktemp("runs")
     scene = vkrecon.Scene.load(os.path.join(BOX, "scene.json"), set=box)
-    summary = vkrecon.reconstruct(scene, out / "python")
+    calls = []
+    summary = vkrecon.reconstruct(scene, out / "python", progress=lambda n, best: calls.append((n, best)))
     args = [BINARY, "run", "-q", os.path.join(BOX, "scene.json"), "-o", str(out / "cli")]
     for s in box:
         args += ["--set", s]
     subprocess.run(args, check=True, capture_output=True)
-    return scene, summary, out
+    return scene, summary, out, calls
 
 
 def test_a_run_writes_what_the_command_line_writes(box_run):
-    scene, summary, out = box_run
+    scene, summary, out, _ = box_run
     assert summary.completed and summary.termination == "completed"
     for name in ("map.json", "chain.csv", "at_map.json", "chains/stan-1.csv", "chains/stan-2.csv"):
         assert (out / "python" / name).read_bytes() == (out / "cli" / name).read_bytes(), name
@@ -130,7 +131,7 @@ def test_a_run_writes_what_the_command_line_writes(box_run):
 
 
 def test_the_summary_is_map_json(box_run):
-    scene, summary, out = box_run
+    scene, summary, out, _ = box_run
     written = json.load(open(out / "python" / "map.json"))
     assert summary.to_json() == written
     assert [p["name"] for p in summary.parameters] == scene.parameter_names == summary.parameter_names
@@ -147,7 +148,7 @@ def test_the_summary_is_map_json(box_run):
 
 
 def test_the_map_lies_near_the_truth(box_run):
-    scene, summary, _ = box_run
+    scene, summary, _, _ = box_run
     truth = scene.values_from_file(os.path.join(BOX, "truth.json"))
     priors = json.load(open(os.path.join(BOX, "scene.json")))["parameters"]
     width = np.array([np.diff(priors[n]["prior"]["uniform"])[0] for n in scene.parameter_names])
@@ -155,7 +156,7 @@ def test_the_map_lies_near_the_truth(box_run):
 
 
 def test_the_draws_are_the_chains_after_burn_in(box_run):
-    scene, summary, out = box_run
+    scene, summary, out, _ = box_run
     written = json.load(open(out / "python" / "map.json"))
     draws, chains = summary.draws, summary.draw_chains
     per_chain = written["iterations"] - written["burn_in"]
@@ -172,7 +173,7 @@ def test_the_draws_are_the_chains_after_burn_in(box_run):
 
 
 def test_a_view_is_what_render_writes(box, box_run, tmp_path):
-    scene, summary, out = box_run
+    scene, summary, out, _ = box_run
     texture = out / "python" / "composite.exr"
     view = vkrecon.render(scene, at=summary.map, camera="cam1", texture=texture, scale=0.5)
     vkrecon.write_at(scene, tmp_path / "map.json", summary.map)
@@ -202,6 +203,27 @@ def test_a_run_that_cannot_start_raises_the_command_lines_line(box, tmp_path):
     cli = subprocess.run(args, capture_output=True, text=True)
     assert cli.returncode == 2
     assert cli.stderr.strip() == f"vkrecon run: {raised.value}"
+
+
+def test_progress_follows_the_run(box_run):
+    scene, summary, _, calls = box_run
+    assert len(calls) >= 40  # one a frame at least: 40 iterations
+    counts = [n for n, _ in calls]
+    assert counts == sorted(counts) and counts[-1] > counts[0] > 0
+    assert all(len(best) == len(summary.parameters) for _, best in calls)
+
+
+def test_an_exception_in_progress_checkpoints_the_run_and_is_raised(box, tmp_path):
+    scene = vkrecon.Scene.load(os.path.join(BOX, "scene.json"), set=box + ["sampler.iterations=400"])
+    out = tmp_path / "run"
+
+    def stop(evaluations, best):
+        if (out / "checkpoint.json").exists():
+            raise ValueError("enough")
+
+    with pytest.raises(ValueError, match="enough"):
+        vkrecon.reconstruct(scene, out, checkpoint_seconds=0.05, progress=stop)
+    assert (out / "checkpoint.json").exists() and not (out / "map.json").exists()
 
 
 def test_ctrl_c_checkpoints_the_run_and_raises(box, tmp_path):
