@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
-# One call on the lent GPU (bench/gpu/nvidia-h200/calibration.txt holds what it printed): the noise study under three calibrations,
+# One call on a lent GPU: the noise study under three calibrations, the clutter assets under
 # the same, and the sampler's defaults on four assets and Merton (4 seeds), all at once.
+# bench/gpu/nvidia-h200/calibration.txt holds what it printed on an H200.
 OUT=${OUT:?}
 V=${V:-"magnitude:likelihood.sandwich_adjustment=magnitude blocks8:likelihood.sandwich_blocks=8 curvature:likelihood.sandwich_adjustment=curvature"}
 noise() {  # SUFFIX ASSETS SIGMAS (no assets: nothing)
