@@ -83,6 +83,23 @@ std::vector<SceneOverride> FixedLikelihood(const nlohmann::json& likelihood, con
 }
 
 // Rank 0's map.json text of a run, on every rank.
+std::string ReadWhole(const fs::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+// ReconstructList writes OUT/summary.csv for the scenes of its call: the reference's row, from
+// the first call, goes back before the others' (`reference`: that first file, or empty).
+void KeepReferenceRow(const fs::path& summary, const std::string& reference) {
+  if (reference.empty()) return;
+  std::string later = ReadWhole(summary);
+  const size_t header = later.find('\n');
+  later = header == std::string::npos ? std::string() : later.substr(header + 1);
+  WriteAtomically(summary, reference + later);
+}
+
 nlohmann::json ReadOnRoot(const fs::path& run_folder, const Ranks& ranks) {
   std::string text;
   if (ranks.rank() == 0) {
@@ -158,11 +175,13 @@ std::vector<ComparedScene> CompareScenes(const CompareOptions& options, vk::Devi
   // The common calibration: a finished run's, else the first scene's, run first as it would
   // run alone; the others then score with its σ, δ and κ.
   fs::path reference;
+  std::string reference_rows;  // its summary.csv, header included
   if (finished) {
     reference = finished->run_folder;
   } else {
     if (log) *log << "vkrecon compare: " << rest.front().name << " first: its run calibrates the likelihood\n";
     ReconstructList({rest.front()}, overrides, options.base, ranks, device);
+    if (ranks.rank() == 0) reference_rows = ReadWhole(options.base.output_dir / "summary.csv");
     reference = options.base.output_dir / rest.front().name;
     rest.erase(rest.begin());
   }
@@ -172,6 +191,7 @@ std::vector<ComparedScene> CompareScenes(const CompareOptions& options, vk::Devi
   if (!rest.empty()) {
     if (log) *log << "vkrecon compare: " << rest.size() << " scene(s) under that likelihood\n";
     ReconstructList(rest, overrides, options.base, ranks, device);
+    if (ranks.rank() == 0) KeepReferenceRow(options.base.output_dir / "summary.csv", reference_rows);
   }
   if (ranks.rank() != 0) return {};
   return WriteTable(inputs, options);

@@ -75,6 +75,14 @@ TEST(CompareCli, TwoScenesGiveOneTableUnderOneLikelihood) {
     EXPECT_EQ(house["evidence"]["likelihood"][key], box["evidence"]["likelihood"][key]) << key;
   EXPECT_EQ(box["calibration"]["kappa"], house["calibration"]["kappa"]);
   EXPECT_FALSE(box["settings"]["likelihood"]["clutter"].get<bool>());
+  // How every run ended, the reference's first, under one header.
+  const std::string summary = test::ReadText(out / "summary.csv");
+  EXPECT_EQ(summary.rfind("scene,", 0), 0u) << summary;
+  EXPECT_EQ(summary.find("scene,", 1), std::string::npos) << summary;
+  const size_t house_row = summary.find("\nhouse,"), box_row = summary.find("\nbox,");
+  EXPECT_NE(house_row, std::string::npos) << summary;
+  EXPECT_NE(box_row, std::string::npos) << summary;
+  EXPECT_LT(house_row, box_row) << summary;
 
   // The finished runs read back from their folders give the same table, without running.
   const auto again = RunCommand(kVkrecon + " compare " + Quote(out / "house") + " " + Quote(out / "box") + " -q -o " +
