@@ -72,6 +72,7 @@ nlohmann::json LikelihoodTarget::Calibrate(const std::vector<double>& psi, const
   // A fixed `likelihood.kappa` replaces the estimate (kept only as kappa_min/max's report), so
   // that several scenes' evidences are of one likelihood (docs/guide/WHICH_SCENE.md).
   if (scene_.likelihood.kappa > 0.0) calibration_.kappa = scene_.likelihood.kappa;
+  else if (scene_.likelihood.kappa_from_noise) calibration_.kappa = calibration_.kappa_noise;
   calibrated_ = true;
   return CalibrationJson();
 }

@@ -159,8 +159,9 @@ nlohmann::json SettingsJson(const RunContext& run, const opt::Sampler& sampler) 
                                               ? nlohmann::json("auto")
                                               : nlohmann::json(scene.likelihood.sandwich_blocks)},
                       {"sandwich_adjustment", scene.likelihood.sandwich_adjustment},
-                      {"kappa", scene.likelihood.kappa > 0.0 ? nlohmann::json(scene.likelihood.kappa)
-                                                             : nlohmann::json("auto")},
+                      {"kappa", scene.likelihood.kappa > 0.0     ? nlohmann::json(scene.likelihood.kappa)
+                                : scene.likelihood.kappa_from_noise ? nlohmann::json("noise")
+                                                                    : nlohmann::json("auto")},
                       {"position_sd", scene.likelihood.position_sd},
                       {"partners", scene.likelihood.partners},
                       {"partner_ranking", scene.likelihood.partner_ranking}}},

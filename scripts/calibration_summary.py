@@ -4,6 +4,11 @@
 A calibrated posterior gives median |z| ≈ 0.67, RMS z ≈ 1 and 95 % intervals that hold the
 truth 95 % of the time; intervals too wide give small z and coverage near 100 %.
 
+Where a run's calibration also measured κ from the residuals' correlation
+(`calibration.noise_correlation`), z_noise is z with the sd rescaled to that κ,
+sd·√(κ_noise/κ): what the same run's intervals would have been under `likelihood.kappa: "noise"`
+(the posterior's sd scales as √κ where it is Gaussian), and "held" counts |z_noise| ≤ 1.96.
+
 Usage: scripts/calibration_summary.py NOISE_STUDY.json [LABEL=NOISE_STUDY.json …]
 One line per run and one summary line per file, on stdout. Python 3 standard library only.
 """
@@ -14,19 +19,33 @@ import statistics
 import sys
 
 
+def noise_scale(cal):
+    """√(κ_noise/κ) for a calibration that measured both, else None."""
+    noise = cal.get("noise_correlation") or {}
+    if not noise.get("kappa") or not cal.get("kappa"):
+        return None
+    return math.sqrt(noise["kappa"] / cal["kappa"])
+
+
 def run_line(run):
     z = [(p["map"] - p["truth"]) / p["sd"] for p in run["parameters"].values() if p.get("sd")]
     cal = run.get("calibration") or {}
+    scale = noise_scale(cal)
+    extra = ""
+    if scale:
+        zn = [x / scale for x in z]
+        extra = (f"  κ_noise {cal['noise_correlation']['kappa']:.1f}: median|z| "
+                 f"{statistics.median(abs(x) for x in zn):5.2f} held {sum(abs(x) <= 1.96 for x in zn)}/{len(zn)}")
     verdict = (run.get("diagnosis") or {}).get("verdict")
     median_z = statistics.median(abs(x) for x in z) if z else float("nan")
     return z, (f"  {run['asset']:<14} σ{run['sigma']:<4g} median|z| {median_z:5.2f}  covered "
                f"{run['covered']}/{run['total']}  median error {100 * (run['median_rel_error'] or 0):.3f} %  "
-               f"κ {cal.get('kappa', float('nan')):.1f}  max R̂ {run.get('max_rhat') or float('nan'):.3f}  {verdict}")
+               f"κ {cal.get('kappa', float('nan')):.1f}  max R̂ {run.get('max_rhat') or float('nan'):.3f}  {verdict}{extra}")
 
 
 def summarise(label, path):
     study = json.load(open(path))
-    zs, covered, total, errors = [], 0, 0, []
+    zs, zns, covered, total, errors = [], [], 0, 0, []
     print(f"{label}: {path}")
     for run in study["runs"]:
         if not run.get("parameters"):
@@ -35,6 +54,9 @@ def summarise(label, path):
         z, line = run_line(run)
         print(line)
         zs += z
+        scale = noise_scale(run.get("calibration") or {})
+        if scale:
+            zns += [x / scale for x in z]
         covered += run["covered"]
         total += run["total"]
         errors.append(run["median_rel_error"])
@@ -42,6 +64,10 @@ def summarise(label, path):
         print(f"{label}: {len(zs)} parameters, median |z| {statistics.median(abs(x) for x in zs):.3f}, "
               f"RMS z {math.sqrt(sum(x * x for x in zs) / len(zs)):.3f}, covered {covered}/{total} "
               f"({100 * covered / total:.0f} %), median of median errors {100 * statistics.median(errors):.3f} %")
+    if zns:
+        print(f"{label}: at κ_noise, {len(zns)} parameters, median |z| {statistics.median(abs(x) for x in zns):.3f}, "
+              f"RMS z {math.sqrt(sum(x * x for x in zns) / len(zns)):.3f}, "
+              f"held {sum(abs(x) <= 1.96 for x in zns)}/{len(zns)}")
 
 
 def main(argv):

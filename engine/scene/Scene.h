@@ -154,9 +154,11 @@ struct LikelihoodSettings {
   // direction its own factor, so the posterior's covariance is the sandwich H⁻¹JH⁻¹.
   std::string sandwich_adjustment = "magnitude";
   // κ, the factor the log-likelihood is divided by: 0 ("auto", the default) estimates it at the
-  // mode by the block sandwich; a number fixes it, so that runs of several scenes score one
-  // likelihood (`vkrecon compare`, docs/guide/WHICH_SCENE.md).
+  // mode by the block sandwich; `kappa_from_noise` ("noise") from the residuals' own
+  // correlation (pipelines/likelihood/NoiseCorrelation.h); a number fixes it, so that runs of
+  // several scenes score one likelihood (`vkrecon compare`, docs/guide/WHICH_SCENE.md).
   double kappa = 0.0;
+  bool kappa_from_noise = false;
   // δ in pixels, the noise's texture term (σ² + δ²|∇I|²): used as given with a fixed `sigma`,
   // estimated with it under "auto".
   double position_sd = 0.5;

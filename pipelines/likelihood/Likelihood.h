@@ -15,6 +15,7 @@
 
 #include "engine/image/Image.h"
 #include "pipelines/likelihood/ClutterMasks.h"
+#include "pipelines/likelihood/NoiseCorrelation.h"
 #include "pipelines/model/Evaluation.h"
 
 namespace vkr {
@@ -74,6 +75,13 @@ class Likelihood {
   virtual void SetClutterMasks(const std::vector<Image>& masks) { (void)masks; }
   // Compares every pixel again but those the user masked.
   virtual void ClearClutterMasks() {}
+  // How many times the log-likelihood counts each independent noise sample at ψ
+  // (NoiseCorrelation.h), at level 0 with the current noise model, correction and masks;
+  // κ = 1 for a likelihood whose dumps carry no view residuals (the image-space kind).
+  virtual NoiseCorrelationEstimate NoiseCorrelation(const std::vector<double>& psi) {
+    (void)psi;
+    return {};
+  }
 
   // One evaluation per hypothesis, in one GPU submission; batch.size() ≤ max_batch().
   virtual std::vector<Evaluation> Evaluate(const std::vector<std::vector<double>>& batch) = 0;

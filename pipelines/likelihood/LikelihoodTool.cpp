@@ -74,6 +74,12 @@ class SurfaceAdapter final : public Adapter<SurfaceLikelihood, SurfaceLikelihood
   }
   void SetClutterMasks(const std::vector<Image>& masks) override { likelihood_.SetClutterMasks(masks); }
   void ClearClutterMasks() override { likelihood_.ClearClutterMasks(); }
+  NoiseCorrelationEstimate NoiseCorrelation(const std::vector<double>& psi) override {
+    const SurfaceDump dump = likelihood_.EvaluateAndDump(psi);
+    return ResidualCorrelation(
+        StandardisedResiduals(dump, likelihood_.options().model, likelihood_.photometric()),
+        kNoiseCorrelationRadius);
+  }
 
   LikelihoodDump EvaluateAndDump(const std::vector<double>& psi, Evaluation* evaluation) override {
     SurfaceDump surface = likelihood_.EvaluateAndDump(psi, evaluation);

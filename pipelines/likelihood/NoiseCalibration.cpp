@@ -27,6 +27,7 @@ nlohmann::json ToJson(const NoiseCalibration& c) {
       {"kappa", c.kappa},   {"kappa_min", c.kappa_min},     {"kappa_max", c.kappa_max},
       {"blocks", c.blocks}, {"block", c.block},             {"chi2_per_dof", c.chi2_per_dof},
       {"photometric", c.photometric}, {"curvature_doubtful", c.CurvatureDoubtful()}};
+  if (!c.noise_rings.empty()) json["noise_correlation"] = {{"kappa", c.kappa_noise}, {"rings", c.noise_rings}};
   if (c.CurvatureAdjusted())
     json["curvature_adjustment"] = {{"adjusted", c.adjusted_curvature}, {"raw", c.raw_curvature},
                                     {"centre", c.adjustment_centre},     {"centre_total", c.centre_total}};
@@ -59,6 +60,12 @@ NoiseCalibration NoiseCalibrationFromJson(const nlohmann::json& j) {
     // Checkpoints written before the block size was chosen have none: 8.
     c.block = j.contains("block") ? count(j.at("block"), "block") : 8;
     c.chi2_per_dof = j.at("chi2_per_dof").get<double>();
+    // Calibrations written before κ was measured from the residuals have none: 1.
+    if (const auto n = j.find("noise_correlation"); n != j.end()) {
+      c.kappa_noise = n->at("kappa").get<double>();
+      c.noise_rings = n->at("rings").get<std::vector<double>>();
+      if (!(c.kappa_noise >= 1.0)) throw std::invalid_argument("noise_correlation's kappa is below 1");
+    }
     if (const auto a = j.find("curvature_adjustment"); a != j.end()) {
       c.adjusted_curvature = a->at("adjusted").get<std::vector<double>>();
       c.raw_curvature = a->at("raw").get<std::vector<double>>();
@@ -257,6 +264,9 @@ NoiseCalibration CalibrateNoise(Likelihood& likelihood, const std::vector<double
   const ReducedScalars& after = at_psi.scalars;
   c.chi2_per_dof = Chi2PerDof(after, c.sigma);
   c.centre_total = at_psi.total();
+  const NoiseCorrelationEstimate noise = likelihood.NoiseCorrelation(psi);
+  c.kappa_noise = noise.kappa;
+  c.noise_rings = noise.rings;
   const size_t d = psi.size();
   if (covariance.size() == d * d && d > 0) {
     // The curvature of the raw log-likelihood under the new noise model: undo κ, and scale

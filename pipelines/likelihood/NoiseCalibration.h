@@ -49,6 +49,11 @@ struct NoiseCalibration {
   int blocks = 0;                // blocks of texels that carried a gradient
   int block = 8;                 // texels per side of those blocks (SandwichOverBlocks)
   double chi2_per_dof = 0.0;     // S/σ²/N at the mode with the σ above
+  // κ from the noise alone (NoiseCorrelation.h): Σ ρ of the residuals at small lags, and ρ
+  // per ring of lags; what `likelihood.kappa: "noise"` divides by. Measured on every surface
+  // calibration, so a run reports it whichever κ it samples with.
+  double kappa_noise = 1.0;
+  std::vector<double> noise_rings;
   // The curvature adjustment (SandwichAdjustment.h), when asked for and J could be measured:
   // A = H J⁻¹ H and H (d × d row-major; empty: the magnitude adjustment alone), the mode ψ*
   // they are centred on, and the log-likelihood + occlusion prior there, undivided.

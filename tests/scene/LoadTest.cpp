@@ -119,6 +119,23 @@ TEST(Load, NodeWithoutPrimitiveIsATransformNode) {
   EXPECT_TRUE(s.nodes[2].transforms.empty());
 }
 
+TEST(Load, KappaIsEstimatedByTheSandwichFromTheNoiseOrFixed) {
+  TempDir dir;
+  Json scene = BaseScene();
+  scene["likelihood"] = Json{{"kappa", "noise"}};
+  Scene s = LoadScene(WriteScene(dir, scene));
+  EXPECT_TRUE(s.likelihood.kappa_from_noise);
+  EXPECT_EQ(s.likelihood.kappa, 0.0);
+  scene["likelihood"] = Json{{"kappa", "auto"}};
+  s = LoadScene(WriteScene(dir, scene));
+  EXPECT_FALSE(s.likelihood.kappa_from_noise);
+  EXPECT_EQ(s.likelihood.kappa, 0.0);
+  scene["likelihood"] = Json{{"kappa", 4}};
+  s = LoadScene(WriteScene(dir, scene));
+  EXPECT_FALSE(s.likelihood.kappa_from_noise);
+  EXPECT_EQ(s.likelihood.kappa, 4.0);
+}
+
 TEST(Load, ScenesMove) {
   TempDir dir;
   Scene a = LoadScene(WriteScene(dir, BaseScene()));
