@@ -72,7 +72,7 @@ nlohmann::json LikelihoodTarget::Calibrate(const std::vector<double>& psi, const
   // A fixed `likelihood.kappa` replaces the estimate (kept only as kappa_min/max's report), so
   // that several scenes' evidences are of one likelihood (docs/guide/WHICH_SCENE.md).
   if (scene_.likelihood.kappa > 0.0) calibration_.kappa = scene_.likelihood.kappa;
-  else if (scene_.likelihood.kappa_from_noise) calibration_.kappa = calibration_.kappa_noise;
+  else if (scene_.likelihood.kappa_estimate == "noise") calibration_.kappa = calibration_.kappa_noise;
   calibrated_ = true;
   return CalibrationJson();
 }
@@ -97,6 +97,8 @@ nlohmann::json LikelihoodTarget::RefitAt(const std::vector<double>& psi) {
   calibration_ = CalibrateNoise(likelihood_, psi, {}, sandwich.kappa, estimate_sigma_, mask_clutter_,
                                 scene_.likelihood.sandwich_blocks);
   calibration_.kappa = sandwich.kappa;
+  calibration_.kappa_noise = sandwich.kappa_noise;
+  calibration_.noise_rings = sandwich.noise_rings;
   calibration_.kappa_min = sandwich.kappa_min;
   calibration_.kappa_max = sandwich.kappa_max;
   calibration_.blocks = sandwich.blocks;

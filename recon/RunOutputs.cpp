@@ -11,6 +11,7 @@
 #include "pipelines/rendering/ModelExport.h"
 #include "recon/AtomicWrite.h"
 #include "recon/LikelihoodTarget.h"
+#include "recon/NoiseIntervals.h"
 #include "recon/RunStages.h"
 #include "recon/SearchSetup.h"
 
@@ -159,9 +160,8 @@ nlohmann::json SettingsJson(const RunContext& run, const opt::Sampler& sampler) 
                                               ? nlohmann::json("auto")
                                               : nlohmann::json(scene.likelihood.sandwich_blocks)},
                       {"sandwich_adjustment", scene.likelihood.sandwich_adjustment},
-                      {"kappa", scene.likelihood.kappa > 0.0     ? nlohmann::json(scene.likelihood.kappa)
-                                : scene.likelihood.kappa_from_noise ? nlohmann::json("noise")
-                                                                    : nlohmann::json("auto")},
+                      {"kappa", scene.likelihood.kappa > 0.0 ? nlohmann::json(scene.likelihood.kappa)
+                                                             : nlohmann::json(scene.likelihood.kappa_estimate)},
                       {"position_sd", scene.likelihood.position_sd},
                       {"partners", scene.likelihood.partners},
                       {"partner_ranking", scene.likelihood.partner_ranking}}},
@@ -183,6 +183,11 @@ void FinishAtMap(const RunContext& run, const opt::Sampler& sampler, const nlohm
   ModelOutputs model = WriteModel(run, sampler, *outputs, surface, clutter, summary->finer, &summary->sampler);
   for (const auto& file : clutter.files) summary->clutter_files.push_back(file.get<std::string>());
   summary->diagnosis = std::move(model.diagnosis);
+  // After the diagnosis, which judges the chains' own spread; before anything states it.
+  const NoiseIntervals intervals =
+      ChooseNoiseIntervals(run.scene.likelihood, summary->sampler.calibration, summary->diagnosis.verdict);
+  ScaleIntervals(intervals.scale, &summary->sampler);
+  if (summary->sampler.calibration.is_object()) summary->sampler.calibration["intervals"] = ToJson(intervals);
   summary->settings = SettingsJson(run, sampler);
   const fs::path& out = run.options.output_dir;
   for (const char* name : {"composite.exr", "composite.png", "model.glb", "reprojections"})

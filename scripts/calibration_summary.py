@@ -6,8 +6,9 @@ truth 95 % of the time; intervals too wide give small z and coverage near 100 %.
 
 Where a run's calibration also measured κ from the residuals' correlation
 (`calibration.noise_correlation`), z_noise is z with the sd rescaled to that κ,
-sd·√(κ_noise/κ): what the same run's intervals would have been under `likelihood.kappa: "noise"`
-(the posterior's sd scales as √κ where it is Gaussian), and "held" counts |z_noise| ≤ 1.96.
+sd·√(κ_noise/κ), κ the one the run's intervals are stated at: what they would have been had
+they been stated at κ_noise whatever the diagnosis (the posterior's sd scales as √κ where it
+is Gaussian), and "held" counts |z_noise| ≤ 1.96.
 
 Usage: scripts/calibration_summary.py NOISE_STUDY.json [LABEL=NOISE_STUDY.json …]
 One line per run and one summary line per file, on stdout. Python 3 standard library only.
@@ -20,11 +21,13 @@ import sys
 
 
 def noise_scale(cal):
-    """√(κ_noise/κ) for a calibration that measured both, else None."""
+    """√(κ_noise/κ_stated) for a calibration that measured κ_noise, else None; κ_stated is the
+    κ map.json's intervals are stated at (`calibration.intervals.kappa`), else the chains'."""
     noise = cal.get("noise_correlation") or {}
-    if not noise.get("kappa") or not cal.get("kappa"):
+    stated = (cal.get("intervals") or {}).get("kappa") or cal.get("kappa")
+    if not noise.get("kappa") or not stated:
         return None
-    return math.sqrt(noise["kappa"] / cal["kappa"])
+    return math.sqrt(noise["kappa"] / stated)
 
 
 def run_line(run):

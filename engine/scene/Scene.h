@@ -153,12 +153,14 @@ struct LikelihoodSettings {
   // by κ, the mean of H⁻¹J's eigenvalues, in every direction alike; "curvature" gives each
   // direction its own factor, so the posterior's covariance is the sandwich H⁻¹JH⁻¹.
   std::string sandwich_adjustment = "magnitude";
-  // κ, the factor the log-likelihood is divided by: 0 ("auto", the default) estimates it at the
-  // mode by the block sandwich; `kappa_from_noise` ("noise") from the residuals' own
-  // correlation (pipelines/likelihood/NoiseCorrelation.h); a number fixes it, so that runs of
-  // several scenes score one likelihood (`vkrecon compare`, docs/guide/WHICH_SCENE.md).
+  // κ, the factor the log-likelihood is divided by. A number fixes it, so that runs of several
+  // scenes score one likelihood (`vkrecon compare`, docs/guide/WHICH_SCENE.md); 0 estimates it
+  // at the mode as `kappa_estimate` says: "sandwich" by the block sandwich (NoiseCalibration.h),
+  // "noise" from the residuals' own correlation (NoiseCorrelation.h), "auto" (the default)
+  // samples with the sandwich's and states the intervals at the noise's where the diagnosis
+  // finds no model error (recon/NoiseIntervals.h).
   double kappa = 0.0;
-  bool kappa_from_noise = false;
+  std::string kappa_estimate = "auto";
   // δ in pixels, the noise's texture term (σ² + δ²|∇I|²): used as given with a fixed `sigma`,
   // estimated with it under "auto".
   double position_sd = 0.5;

@@ -140,16 +140,17 @@ void ReadLikelihood(const Reader& r, const Json& j, LikelihoodSettings& s) {
       r.Fail("likelihood.sandwich_adjustment",
              "unknown adjustment '" + s.sandwich_adjustment + "' (magnitude, curvature)");
   }
-  if (auto it = j.find("kappa"); it != j.end() && it->is_string() && it->get<std::string>() == "noise") {
+  if (auto it = j.find("kappa"); it != j.end() && it->is_string() &&
+                                 (*it == "sandwich" || *it == "noise")) {
     s.kappa = 0.0;
-    s.kappa_from_noise = true;
-  } else if (it != j.end() && IsWord(r, *it, "likelihood.kappa", "auto", "a number, \"noise\"")) {
+    s.kappa_estimate = it->get<std::string>();
+  } else if (it != j.end() && IsWord(r, *it, "likelihood.kappa", "auto", "a number, \"sandwich\", \"noise\"")) {
     s.kappa = 0.0;
-    s.kappa_from_noise = false;
+    s.kappa_estimate = "auto";
   } else if (it != j.end()) {
-    s.kappa_from_noise = false;
+    s.kappa_estimate = "auto";
     s.kappa = r.Number(*it, "likelihood.kappa");
-    if (!(s.kappa > 0.0 && s.kappa < 1e9)) r.Fail("likelihood.kappa", "kappa " + Num(s.kappa) + " must be > 0 (or \"auto\", \"noise\")");
+    if (!(s.kappa > 0.0 && s.kappa < 1e9)) r.Fail("likelihood.kappa", "kappa " + Num(s.kappa) + " must be > 0 (or \"auto\", \"sandwich\", \"noise\")");
   }
   if (auto it = j.find("position_sd"); it != j.end()) {
     s.position_sd = r.Number(*it, "likelihood.position_sd");

@@ -264,11 +264,11 @@ NoiseCalibration CalibrateNoise(Likelihood& likelihood, const std::vector<double
   const ReducedScalars& after = at_psi.scalars;
   c.chi2_per_dof = Chi2PerDof(after, c.sigma);
   c.centre_total = at_psi.total();
-  const NoiseCorrelationEstimate noise = likelihood.NoiseCorrelation(psi);
-  c.kappa_noise = noise.kappa;
-  c.noise_rings = noise.rings;
   const size_t d = psi.size();
   if (covariance.size() == d * d && d > 0) {
+    const NoiseCorrelationEstimate noise = likelihood.NoiseCorrelation(psi);
+    c.kappa_noise = noise.kappa;
+    c.noise_rings = noise.rings;
     // The curvature of the raw log-likelihood under the new noise model: undo κ, and scale
     // by how much the noise model changed the χ² of the same deviations (its precisions
     // changed by about that much; for σ alone it is σ²_before/σ²; the N term has no curvature).

@@ -50,8 +50,8 @@ struct NoiseCalibration {
   int block = 8;                 // texels per side of those blocks (SandwichOverBlocks)
   double chi2_per_dof = 0.0;     // S/σ²/N at the mode with the σ above
   // κ from the noise alone (NoiseCorrelation.h): Σ ρ of the residuals at small lags, and ρ
-  // per ring of lags; what `likelihood.kappa: "noise"` divides by. Measured on every surface
-  // calibration, so a run reports it whichever κ it samples with.
+  // per ring of lags; what `likelihood.kappa: "noise"` divides by. Measured with the sandwich
+  // (a curvature given), so a run reports it whichever κ it samples with.
   double kappa_noise = 1.0;
   std::vector<double> noise_rings;
   // The curvature adjustment (SandwichAdjustment.h), when asked for and J could be measured:
@@ -112,7 +112,8 @@ double KappaFromJson(const nlohmann::json& calibration);
 // loss then turns every edge into an outlier, and hiding surface pays — at σ = 0.7 a house
 // 8 % too large outscored the truth; from σ = 2 on the truth wins clearly. `covariance` (d × d row-major) is the
 // inverse curvature of log L / `current_kappa` at ψ with the σ the likelihood had; an empty
-// one, or a likelihood whose dumps carry no deviation image (image-space kind), leaves κ = 1.
+// one, or a likelihood whose dumps carry no deviation image (image-space kind), leaves κ = 1
+// (and κ from the noise, measured only with the sandwich).
 // `curvature_adjustment`: the sandwich's curvature adjustment as well, centred on ψ
 // (`covariance` must then be the raw log-likelihood's: `current_kappa` 1).
 NoiseCalibration CalibrateNoise(Likelihood& likelihood, const std::vector<double>& psi,

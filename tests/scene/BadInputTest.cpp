@@ -282,7 +282,7 @@ TEST(BadInput, VersionAndSettings) {
   scene["likelihood"] = Json{{"kappa", 0}};
   EXPECT_TRUE(LoadFails(dir, scene, {"likelihood.kappa", "must be > 0"}));
   scene["likelihood"] = Json{{"kappa", "estimate"}};
-  EXPECT_TRUE(LoadFails(dir, scene, {"likelihood.kappa", "'estimate'", "\"auto\"", "\"noise\""}));
+  EXPECT_TRUE(LoadFails(dir, scene, {"likelihood.kappa", "'estimate'", "\"auto\"", "\"sandwich\"", "\"noise\""}));
   scene["likelihood"] = Json{{"position_sd", -0.5}};
   EXPECT_TRUE(LoadFails(dir, scene, {"likelihood.position_sd", "[0, 10]"}));
   scene.erase("likelihood");

@@ -99,7 +99,8 @@ TEST(Load, DefaultsForMissingSections) {
   EXPECT_EQ(s.likelihood.atlas, 0);
   EXPECT_EQ(s.likelihood.levels, 0);
   EXPECT_EQ(s.likelihood.sandwich_blocks, 0);  // "auto"
-  EXPECT_EQ(s.likelihood.kappa, 0.0);  // "auto": estimated at the mode
+  EXPECT_EQ(s.likelihood.kappa, 0.0);  // estimated at the mode
+  EXPECT_EQ(s.likelihood.kappa_estimate, "auto");
   EXPECT_EQ(s.likelihood.position_sd, 0.5);
   EXPECT_EQ(s.likelihood.charts, "area");
   const SamplerSettings d;
@@ -122,17 +123,14 @@ TEST(Load, NodeWithoutPrimitiveIsATransformNode) {
 TEST(Load, KappaIsEstimatedByTheSandwichFromTheNoiseOrFixed) {
   TempDir dir;
   Json scene = BaseScene();
-  scene["likelihood"] = Json{{"kappa", "noise"}};
-  Scene s = LoadScene(WriteScene(dir, scene));
-  EXPECT_TRUE(s.likelihood.kappa_from_noise);
-  EXPECT_EQ(s.likelihood.kappa, 0.0);
-  scene["likelihood"] = Json{{"kappa", "auto"}};
-  s = LoadScene(WriteScene(dir, scene));
-  EXPECT_FALSE(s.likelihood.kappa_from_noise);
-  EXPECT_EQ(s.likelihood.kappa, 0.0);
+  for (const char* estimate : {"noise", "sandwich", "auto"}) {
+    scene["likelihood"] = Json{{"kappa", estimate}};
+    const Scene s = LoadScene(WriteScene(dir, scene));
+    EXPECT_EQ(s.likelihood.kappa_estimate, estimate);
+    EXPECT_EQ(s.likelihood.kappa, 0.0);
+  }
   scene["likelihood"] = Json{{"kappa", 4}};
-  s = LoadScene(WriteScene(dir, scene));
-  EXPECT_FALSE(s.likelihood.kappa_from_noise);
+  const Scene s = LoadScene(WriteScene(dir, scene));
   EXPECT_EQ(s.likelihood.kappa, 4.0);
 }
 

@@ -1,0 +1,61 @@
+#include "recon/NoiseIntervals.h"
+
+#include <cmath>
+
+namespace vkr::recon {
+
+NoiseIntervals ChooseNoiseIntervals(const LikelihoodSettings& settings, const nlohmann::json& calibration,
+                                    Diagnosis::Verdict verdict) {
+  NoiseIntervals out;
+  if (!calibration.is_object()) {
+    out.from = "sandwich";
+    out.why = "no calibration";
+    return out;
+  }
+  const double chains = calibration.value("kappa", 1.0);
+  out.kappa = chains;
+  if (settings.kappa > 0.0) {
+    out.from = "fixed";
+    return out;
+  }
+  if (settings.kappa_estimate == "noise") {
+    out.from = "chains";
+    return out;
+  }
+  out.from = "sandwich";
+  const nlohmann::json noise = calibration.value("noise_correlation", nlohmann::json());
+  if (settings.kappa_estimate == "sandwich") {
+    out.why = "likelihood.kappa is \"sandwich\"";
+  } else if (!noise.is_object() || !noise.contains("kappa") || !noise["kappa"].is_number()) {
+    out.why = "the noise's correlation was not measured";
+  } else if (verdict == Diagnosis::Verdict::ModelError || verdict == Diagnosis::Verdict::Failed) {
+    out.why = "the diagnosis finds model error: the misfit, not the noise, sets the error";
+  } else if (verdict == Diagnosis::Verdict::NotDiagnosed) {
+    out.why = "the run was not diagnosed";
+  } else if (!(noise["kappa"].get<double>() < chains) || !(chains > 0.0)) {
+    out.why = "the noise's kappa is not smaller";
+  } else {
+    out.from = "noise";
+    out.kappa = noise["kappa"].get<double>();
+    out.scale = std::sqrt(out.kappa / chains);
+  }
+  return out;
+}
+
+void ScaleIntervals(double scale, opt::SamplerSummary* summary) {
+  if (!(scale > 0.0) || scale == 1.0) return;
+  // Toward the MAP, which lies inside the support: the moved values stay inside it too.
+  for (opt::ParameterSummary& p : summary->parameters) {
+    for (double* v : {&p.mean, &p.q025, &p.q975}) *v = p.map + scale * (*v - p.map);
+    p.sd *= scale;
+    p.laplace_sd *= scale;
+  }
+}
+
+nlohmann::json ToJson(const NoiseIntervals& intervals) {
+  nlohmann::json json = {{"kappa", intervals.kappa}, {"scale", intervals.scale}, {"from", intervals.from}};
+  if (!intervals.why.empty()) json["why"] = intervals.why;
+  return json;
+}
+
+}  // namespace vkr::recon

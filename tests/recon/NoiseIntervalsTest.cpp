@@ -1,0 +1,83 @@
+// Which κ a run's intervals are stated at (recon/NoiseIntervals.h), and how stating them there
+// moves the summaries: toward the MAP, by √(κ_noise/κ).
+#include <gtest/gtest.h>
+
+#include "recon/NoiseIntervals.h"
+
+namespace vkr::recon {
+namespace {
+
+nlohmann::json Calibration(double sandwich, double noise) {
+  return {{"kappa", sandwich}, {"noise_correlation", {{"kappa", noise}, {"rings", {1.0, 0.3}}}}};
+}
+
+TEST(NoiseIntervals, ResidualsLikeNoiseGetTheNoisesKappa) {
+  const LikelihoodSettings defaults;
+  for (const Diagnosis::Verdict verdict : {Diagnosis::Verdict::Ok, Diagnosis::Verdict::Unsettled}) {
+    const NoiseIntervals i = ChooseNoiseIntervals(defaults, Calibration(100.0, 4.0), verdict);
+    EXPECT_EQ(i.from, "noise");
+    EXPECT_DOUBLE_EQ(i.kappa, 4.0);
+    EXPECT_DOUBLE_EQ(i.scale, 0.2);
+    EXPECT_TRUE(i.why.empty());
+  }
+}
+
+TEST(NoiseIntervals, ModelErrorKeepsTheSandwichsWidth) {
+  const LikelihoodSettings defaults;
+  for (const Diagnosis::Verdict verdict :
+       {Diagnosis::Verdict::ModelError, Diagnosis::Verdict::Failed, Diagnosis::Verdict::NotDiagnosed}) {
+    const NoiseIntervals i = ChooseNoiseIntervals(defaults, Calibration(100.0, 4.0), verdict);
+    EXPECT_EQ(i.from, "sandwich");
+    EXPECT_DOUBLE_EQ(i.kappa, 100.0);
+    EXPECT_DOUBLE_EQ(i.scale, 1.0);
+    EXPECT_FALSE(i.why.empty());
+  }
+  EXPECT_NE(ChooseNoiseIntervals(defaults, Calibration(100.0, 4.0), Diagnosis::Verdict::ModelError).why.find("model error"),
+            std::string::npos);
+}
+
+TEST(NoiseIntervals, SettingsAndMissingMeasurementsKeepTheChainsKappa) {
+  LikelihoodSettings s;
+  s.kappa_estimate = "sandwich";
+  EXPECT_EQ(ChooseNoiseIntervals(s, Calibration(100.0, 4.0), Diagnosis::Verdict::Ok).scale, 1.0);
+  s.kappa_estimate = "noise";  // the chains sampled at it already
+  EXPECT_EQ(ChooseNoiseIntervals(s, Calibration(4.0, 4.0), Diagnosis::Verdict::Ok).from, "chains");
+  s.kappa_estimate = "auto";
+  s.kappa = 12.0;
+  EXPECT_EQ(ChooseNoiseIntervals(s, Calibration(12.0, 4.0), Diagnosis::Verdict::Ok).from, "fixed");
+  const LikelihoodSettings defaults;
+  EXPECT_EQ(ChooseNoiseIntervals(defaults, {{"kappa", 50.0}}, Diagnosis::Verdict::Ok).scale, 1.0);
+  EXPECT_EQ(ChooseNoiseIntervals(defaults, nullptr, Diagnosis::Verdict::Ok).scale, 1.0);
+  // Never wider than the chains': a noise κ above the sandwich's leaves them.
+  EXPECT_EQ(ChooseNoiseIntervals(defaults, Calibration(3.0, 6.0), Diagnosis::Verdict::Ok).scale, 1.0);
+}
+
+TEST(NoiseIntervals, SummariesMoveTowardTheMap) {
+  opt::SamplerSummary summary;
+  opt::ParameterSummary p;
+  p.map = 1.0, p.mean = 1.1, p.q025 = 0.5, p.q975 = 1.5, p.sd = 0.3, p.laplace_sd = 0.2, p.rhat = 1.2, p.ess = 80;
+  summary.parameters = {p};
+  ScaleIntervals(0.5, &summary);
+  const opt::ParameterSummary& q = summary.parameters[0];
+  EXPECT_DOUBLE_EQ(q.map, 1.0);
+  EXPECT_DOUBLE_EQ(q.mean, 1.05);
+  EXPECT_DOUBLE_EQ(q.q025, 0.75);
+  EXPECT_DOUBLE_EQ(q.q975, 1.25);
+  EXPECT_DOUBLE_EQ(q.sd, 0.15);
+  EXPECT_DOUBLE_EQ(q.laplace_sd, 0.1);
+  EXPECT_DOUBLE_EQ(q.rhat, 1.2);  // the chains' mixing is theirs
+  EXPECT_DOUBLE_EQ(q.ess, 80);
+}
+
+TEST(NoiseIntervals, WrittenToMapJson) {
+  NoiseIntervals i;
+  i.kappa = 100.0, i.from = "sandwich", i.why = "the diagnosis finds model error";
+  const nlohmann::json j = ToJson(i);
+  EXPECT_EQ(j["from"], "sandwich");
+  EXPECT_EQ(j["kappa"], 100.0);
+  EXPECT_EQ(j["why"], "the diagnosis finds model error");
+  EXPECT_FALSE(ToJson(NoiseIntervals{4.0, 0.2, "noise", ""}).contains("why"));
+}
+
+}  // namespace
+}  // namespace vkr::recon
