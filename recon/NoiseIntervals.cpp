@@ -1,6 +1,8 @@
 #include "recon/NoiseIntervals.h"
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace vkr::recon {
 
@@ -42,13 +44,22 @@ NoiseIntervals ChooseNoiseIntervals(const LikelihoodSettings& settings, const nl
   return out;
 }
 
-void ScaleIntervals(double scale, opt::SamplerSummary* summary) {
+void ScaleIntervals(double scale, const std::vector<double>& prior_sd, opt::SamplerSummary* summary) {
   if (!(scale > 0.0) || scale == 1.0) return;
-  // Toward the MAP, which lies inside the support: the moved values stay inside it too.
-  for (opt::ParameterSummary& p : summary->parameters) {
-    for (double* v : {&p.mean, &p.q025, &p.q975}) *v = p.map + scale * (*v - p.map);
-    p.sd *= scale;
-    p.laplace_sd *= scale;
+  for (size_t i = 0; i < summary->parameters.size(); ++i) {
+    opt::ParameterSummary& p = summary->parameters[i];
+    double factor = scale;
+    const double sd = i < prior_sd.size() ? prior_sd[i] : std::numeric_limits<double>::infinity();
+    if (std::isfinite(sd) && sd > 0.0 && p.sd > 0.0) {
+      // Posterior precision = prior's + likelihood's; the likelihood's grows by 1/scale².
+      const double prior_precision = 1.0 / (sd * sd);
+      const double likelihood_precision = std::max(0.0, 1.0 / (p.sd * p.sd) - prior_precision);
+      factor = std::sqrt((1.0 / (p.sd * p.sd)) / (prior_precision + likelihood_precision / (scale * scale)));
+    }
+    // Toward the MAP, which lies inside the support: the moved values stay inside it too.
+    for (double* v : {&p.mean, &p.q025, &p.q975}) *v = p.map + factor * (*v - p.map);
+    p.sd *= factor;
+    p.laplace_sd *= factor;
   }
 }
 

@@ -37,9 +37,12 @@ struct NoiseIntervals {
 NoiseIntervals ChooseNoiseIntervals(const LikelihoodSettings& settings, const nlohmann::json& calibration,
                                     Diagnosis::Verdict verdict);
 
-// Mean and quantiles moved toward the MAP by `scale`, sd and the Laplace sd multiplied by it.
-// chain.csv keeps the draws as sampled.
-void ScaleIntervals(double scale, opt::SamplerSummary* summary);
+// Mean and quantiles moved toward the MAP, sd and the Laplace sd multiplied, by each
+// parameter's factor: `scale` where the likelihood alone sets its spread (a uniform prior:
+// `prior_sd` infinite or absent); less where a normal prior of sd `prior_sd[i]` holds it too,
+// since only the likelihood's share of its precision grows (in the Gaussian approximation,
+// parameter by parameter). chain.csv keeps the draws as sampled.
+void ScaleIntervals(double scale, const std::vector<double>& prior_sd, opt::SamplerSummary* summary);
 
 nlohmann::json ToJson(const NoiseIntervals& intervals);
 

@@ -1,6 +1,7 @@
 #include "recon/RunOutputs.h"
 
 #include <algorithm>
+#include <limits>
 #include <sstream>
 
 #include "engine/image/Image.h"
@@ -186,7 +187,11 @@ void FinishAtMap(const RunContext& run, const opt::Sampler& sampler, const nlohm
   // After the diagnosis, which judges the chains' own spread; before anything states it.
   const NoiseIntervals intervals =
       ChooseNoiseIntervals(run.scene.likelihood, summary->sampler.calibration, summary->diagnosis.verdict);
-  ScaleIntervals(intervals.scale, &summary->sampler);
+  std::vector<double> prior_sd;  // a normal prior's sd; a uniform one holds no spread near the mode
+  for (const Parameter& parameter : run.scene.parameters)
+    prior_sd.push_back(parameter.prior.kind == Prior::Kind::Uniform ? std::numeric_limits<double>::infinity()
+                                                                    : parameter.prior.b);
+  ScaleIntervals(intervals.scale, prior_sd, &summary->sampler);
   if (summary->sampler.calibration.is_object()) summary->sampler.calibration["intervals"] = ToJson(intervals);
   summary->settings = SettingsJson(run, sampler);
   const fs::path& out = run.options.output_dir;

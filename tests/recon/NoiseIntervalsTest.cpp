@@ -1,5 +1,8 @@
 // Which κ a run's intervals are stated at (recon/NoiseIntervals.h), and how stating them there
 // moves the summaries: toward the MAP, by √(κ_noise/κ).
+#include <cmath>
+#include <limits>
+
 #include <gtest/gtest.h>
 
 #include "recon/NoiseIntervals.h"
@@ -57,7 +60,7 @@ TEST(NoiseIntervals, SummariesMoveTowardTheMap) {
   opt::ParameterSummary p;
   p.map = 1.0, p.mean = 1.1, p.q025 = 0.5, p.q975 = 1.5, p.sd = 0.3, p.laplace_sd = 0.2, p.rhat = 1.2, p.ess = 80;
   summary.parameters = {p};
-  ScaleIntervals(0.5, &summary);
+  ScaleIntervals(0.5, {}, &summary);  // uniform priors
   const opt::ParameterSummary& q = summary.parameters[0];
   EXPECT_DOUBLE_EQ(q.map, 1.0);
   EXPECT_DOUBLE_EQ(q.mean, 1.05);
@@ -67,6 +70,24 @@ TEST(NoiseIntervals, SummariesMoveTowardTheMap) {
   EXPECT_DOUBLE_EQ(q.laplace_sd, 0.1);
   EXPECT_DOUBLE_EQ(q.rhat, 1.2);  // the chains' mixing is theirs
   EXPECT_DOUBLE_EQ(q.ess, 80);
+}
+
+TEST(NoiseIntervals, ANormalPriorsShareOfThePrecisionStays) {
+  // Posterior sd 0.5 under a normal prior of sd 1: precision 4 = 1 (prior) + 3 (likelihood).
+  // At a quarter of κ the likelihood's is 12: sd 1/√13, not 0.25.
+  opt::SamplerSummary summary;
+  opt::ParameterSummary p;
+  p.map = 0.0, p.mean = 0.0, p.q025 = -1.0, p.q975 = 1.0, p.sd = 0.5, p.laplace_sd = 0.5;
+  opt::ParameterSummary flat = p;
+  opt::ParameterSummary prior_only = p;
+  prior_only.sd = 1.0;  // as wide as its prior: the photographs say nothing about it
+  summary.parameters = {p, flat, prior_only};
+  ScaleIntervals(0.5, {1.0, std::numeric_limits<double>::infinity(), 1.0}, &summary);
+  EXPECT_NEAR(summary.parameters[0].sd, 1.0 / std::sqrt(13.0), 1e-12);
+  EXPECT_NEAR(summary.parameters[0].q975, 2.0 / std::sqrt(13.0), 1e-12);
+  EXPECT_DOUBLE_EQ(summary.parameters[1].sd, 0.25);
+  EXPECT_DOUBLE_EQ(summary.parameters[2].sd, 1.0);
+  EXPECT_DOUBLE_EQ(summary.parameters[2].q025, -1.0);
 }
 
 TEST(NoiseIntervals, WrittenToMapJson) {
