@@ -155,6 +155,14 @@ std::string Calibration(const json& map) {
     row("κ<sub>min</sub> / κ<sub>max</sub>",
         Number(c.value("kappa_min", json())) + " / " + Number(c.value("kappa_max", json())),
         "the sandwich's eigenvalues (κ<sub>min</sub> &lt; 1: the curvature is doubtful)");
+    const json intervals = c.value("intervals", json());
+    if (intervals.is_object()) {
+      const std::string from = intervals.value("from", std::string());
+      row("intervals at κ", Number(intervals.value("kappa", json())),
+          from == "noise" ? "the noise's: the chains' spread about the MAP times " + Number(intervals.value("scale", json()))
+          : from == "sandwich" ? "the sandwich's: " + Html(intervals.value("why", std::string()))
+                               : "as the chains sampled (" + Html(from) + ")");
+    }
   } else {
     row("calibration", "none", "the run did not settle at a mode");
   }

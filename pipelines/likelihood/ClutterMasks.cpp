@@ -4,6 +4,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "pipelines/likelihood/NoiseCorrelation.h"
 #include "pipelines/likelihood/SurfaceLikelihood.h"
 #include "pipelines/rendering/ViewRendering.h"
 
@@ -15,27 +16,14 @@ namespace {
 Image OutlierAtlas(const SurfaceDump& dump, int i, const LikelihoodModel& model, const PhotometricCorrection& photometric,
                    double threshold) {
   const Image& view = dump.view_textures[size_t(i)];
-  const Image& noise = dump.view_noise[size_t(i)];
-  const auto& gain = photometric.gain[size_t(i)];
-  const auto& offset = photometric.offset[size_t(i)];
-  const double mean_gain = (gain[0] + gain[1] + gain[2]) / 3.0;
-  const double sigma2 = std::pow(model.sigma / 255.0, 2), delta2 = model.position_sd * model.position_sd;
   Image out(view.width, view.height, 0.0f);
   for (int y = 0; y < view.height; ++y)
     for (int x = 0; x < view.width; ++x) {
       float* o = out.At(x, y);
       o[3] = 1.0f;
-      const float* c = view.At(x, y);
-      const float* mean = dump.composite.At(x, y);
-      if (!(c[3] > 0.0f) || mean[3] < 2.0f) continue;  // not seen by this view, or by fewer than two
-      const double g = mean_gain * noise.At(x, y)[0];
-      const double mass = std::max(1.0, double(noise.At(x, y)[1]));
-      double e2 = 0.0;
-      for (int k = 0; k < 3; ++k) {
-        const double d = gain[size_t(k)] * c[k] + offset[size_t(k)] - mean[k];
-        e2 += d * d;
-      }
-      e2 /= sigma2 / mass + delta2 * g * g;
+      double e[3];
+      const double e2 = StandardisedResidual(dump, i, x, y, model, photometric, e);
+      if (e2 < 0.0) continue;  // not seen by this view, or by fewer than two
       o[0] = e2 > threshold ? 1.0f : 0.0f;  // composite.comp's outlier rule
       o[1] = 1.0f;
     }

@@ -1,6 +1,7 @@
 #include "pipelines/likelihood/NoiseCorrelation.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdlib>
 
@@ -55,36 +56,43 @@ NoiseCorrelationEstimate ResidualCorrelation(const std::vector<Image>& residuals
   return out;
 }
 
+double StandardisedResidual(const SurfaceDump& dump, int view, int x, int y, const LikelihoodModel& model,
+                            const PhotometricCorrection& photometric, double e[3]) {
+  const float* c = dump.view_textures[size_t(view)].At(x, y);
+  const float* mean = dump.composite.At(x, y);
+  if (!(c[3] > 0.0f) || mean[3] < 2.0f) return -1.0;  // unseen by this view, or by no other
+  const bool corrected = view < photometric.cameras();
+  const std::array<double, 3> unit_gain{1.0, 1.0, 1.0}, zero{0.0, 0.0, 0.0};
+  const std::array<double, 3>& gain = corrected ? photometric.gain[size_t(view)] : unit_gain;
+  const std::array<double, 3>& offset = corrected ? photometric.offset[size_t(view)] : zero;
+  // The noise model's variance (Evaluation.h): σ² over the pixels the sample averages, plus
+  // δ²|∇I|² with the gradient as this view's correction scales it.
+  const float* noise = dump.view_noise[size_t(view)].At(x, y);
+  const double g = (gain[0] + gain[1] + gain[2]) / 3.0 * noise[0];
+  const double mass = std::max(1.0, double(noise[1]));
+  const double sd = std::sqrt(std::pow(model.sigma / 255.0, 2) / mass + model.position_sd * model.position_sd * g * g);
+  if (!(sd > 0.0)) return -1.0;
+  double e2 = 0.0;
+  for (int k = 0; k < 3; ++k) {
+    e[k] = (gain[size_t(k)] * c[k] + offset[size_t(k)] - mean[k]) / sd;
+    e2 += e[k] * e[k];
+  }
+  return e2;
+}
+
 std::vector<Image> StandardisedResiduals(const SurfaceDump& dump, const LikelihoodModel& model,
                                          const PhotometricCorrection& photometric) {
-  const double sigma2 = std::pow(model.sigma / 255.0, 2), delta2 = model.position_sd * model.position_sd;
   std::vector<Image> out;
   for (size_t i = 0; i < dump.view_textures.size() && i < dump.view_noise.size(); ++i) {
-    const Image& view = dump.view_textures[i];
-    const Image& noise = dump.view_noise[i];
-    const bool corrected = i < size_t(photometric.cameras());
-    const std::array<double, 3> unit_gain{1.0, 1.0, 1.0}, zero{0.0, 0.0, 0.0};
-    const std::array<double, 3>& gain = corrected ? photometric.gain[i] : unit_gain;
-    const std::array<double, 3>& offset = corrected ? photometric.offset[i] : zero;
-    const double mean_gain = (gain[0] + gain[1] + gain[2]) / 3.0;
-    Image residual(view.width, view.height, 0.0f);
-    for (int y = 0; y < view.height; ++y)
-      for (int x = 0; x < view.width; ++x) {
-        const float* c = view.At(x, y);
-        const float* mean = dump.composite.At(x, y);
-        if (!(c[3] > 0.0f) || mean[3] < 2.0f) continue;  // unseen by this view, or by no other
-        const double g = mean_gain * noise.At(x, y)[0];
-        const double mass = std::max(1.0, double(noise.At(x, y)[1]));
-        const double sd = std::sqrt(sigma2 / mass + delta2 * g * g);
-        if (!(sd > 0.0)) continue;
-        float* e = residual.At(x, y);
-        double e2 = 0.0;
-        for (int k = 0; k < 3; ++k) {
-          const double d = (gain[size_t(k)] * c[k] + offset[size_t(k)] - mean[k]) / sd;
-          e[k] = float(d);
-          e2 += d * d;
-        }
-        e[3] = e2 > model.outlier_chi2 ? 0.0f : 1.0f;  // the composite's outlier rule
+    Image residual(dump.view_textures[i].width, dump.view_textures[i].height, 0.0f);
+    for (int y = 0; y < residual.height; ++y)
+      for (int x = 0; x < residual.width; ++x) {
+        double e[3];
+        const double e2 = StandardisedResidual(dump, int(i), x, y, model, photometric, e);
+        if (e2 < 0.0) continue;
+        float* r = residual.At(x, y);
+        for (int k = 0; k < 3; ++k) r[k] = float(e[k]);
+        r[3] = e2 > model.outlier_chi2 ? 0.0f : 1.0f;  // the composite's outlier rule
       }
     out.push_back(std::move(residual));
   }

@@ -36,6 +36,12 @@ struct NoiseCorrelationEstimate {
 // the (2·radius + 1)² lags, floored at 1 (noise cannot be anticorrelated on average).
 NoiseCorrelationEstimate ResidualCorrelation(const std::vector<Image>& residuals, int radius);
 
+// Camera `view`'s standardised residual at texel (x, y) of a dump, per channel, into `e`:
+// (corrected colour − consensus) / the noise model's sd. Returns e² (summed over the
+// channels), or a negative number where the view does not see the texel or no other view does.
+double StandardisedResidual(const SurfaceDump& dump, int view, int x, int y, const LikelihoodModel& model,
+                            const PhotometricCorrection& photometric, double e[3]);
+
 // The standardised residuals of one evaluation, per camera: (corrected colour − consensus) /
 // the noise model's sd, where the view sees a texel that at least one other view sees too,
 // and is not an outlier of the composite there (the robust loss caps those; clutter masks

@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
 #include <memory>
 #include <nlohmann/json.hpp>
@@ -64,6 +65,22 @@ TEST_F(ReportCli, RunWritesTheReportAndAnOverlayPerCamera) {
   const std::string verdict = map["diagnosis"]["verdict"].get<std::string>();
   EXPECT_NE(html.find("diagnosis: <b>" + verdict + "</b>"), std::string::npos) << verdict;
   EXPECT_NE(html.find("id=\"report-errors\""), std::string::npos);
+  // Which κ the intervals are stated at, in map.json and on the page: the noise's where the
+  // diagnosis finds no model error, a factor √(κ_noise/κ) of the chains' spread.
+  const nlohmann::json& calibration = map["calibration"];
+  ASSERT_TRUE(calibration.contains("intervals")) << calibration.dump();
+  const nlohmann::json& intervals = calibration["intervals"];
+  const double kappa_noise = calibration["noise_correlation"]["kappa"].get<double>();
+  EXPECT_GE(kappa_noise, 1.0);
+  if (verdict == "model_error" || verdict == "failed") {
+    EXPECT_EQ(intervals["from"], "sandwich");
+    EXPECT_EQ(intervals["scale"], 1.0);
+  } else {
+    EXPECT_EQ(intervals["from"], "noise") << intervals.dump();
+    EXPECT_DOUBLE_EQ(intervals["kappa"].get<double>(), kappa_noise);
+    EXPECT_NEAR(intervals["scale"].get<double>(), std::sqrt(kappa_noise / calibration["kappa"].get<double>()), 1e-9);
+  }
+  EXPECT_NE(html.find("intervals at κ"), std::string::npos);
   const nlohmann::json cameras = map["diagnosis"]["cameras"];
   ASSERT_FALSE(cameras.empty());
   for (const auto& c : cameras) {
