@@ -2,9 +2,11 @@
 
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <string>
 
 #include "pipelines/likelihood/NoiseCalibration.h"
+#include "recon/NoiseIntervals.h"
 
 namespace vkr::recon {
 namespace {
@@ -119,13 +121,20 @@ Diagnosis Diagnose(const Scene& scene, const Evaluation& at_map, double sigma_25
                                        "under 1 %%): a large share of the surface disagrees",
                                        100.0 * total.OutlierShare()));
 
+  // The sds the run will state (recon/NoiseIntervals.h): the noise's where no model error.
+  const Diagnosis::Verdict provisional = !failed.empty()  ? Diagnosis::Verdict::Failed
+                                         : !model.empty() ? Diagnosis::Verdict::ModelError
+                                                          : Diagnosis::Verdict::Ok;
+  const double scale = ChooseNoiseIntervals(scene.likelihood, summary.calibration, provisional).scale;
   for (size_t i = 0; i < summary.parameters.size() && i < scene.parameters.size(); ++i) {
     const opt::ParameterSummary& p = summary.parameters[i];
     const Prior& prior = scene.parameters[i].prior;
-    const double prior_sd = prior.kind == Prior::Kind::Uniform ? (prior.b - prior.a) / std::sqrt(12.0) : prior.b;
-    if (p.sd > 0.5 * prior_sd)
+    const bool uniform = prior.kind == Prior::Kind::Uniform;
+    const double prior_sd = uniform ? (prior.b - prior.a) / std::sqrt(12.0) : prior.b;
+    const double sd = p.sd * SpreadFactor(scale, p.sd, uniform ? std::numeric_limits<double>::infinity() : prior_sd);
+    if (sd > 0.5 * prior_sd)
       other.push_back(p.name + Format(" is barely constrained by the images (posterior sd %g against the prior's %g)",
-                                      p.sd, prior_sd));
+                                      sd, prior_sd));
     if (p.rhat > kRhat) {
       other.push_back(p.name + Format(": the chains disagree (R-hat %.3f); run longer", p.rhat));
       Worsen(&d, Diagnosis::Verdict::Unsettled);

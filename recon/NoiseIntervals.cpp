@@ -44,18 +44,20 @@ NoiseIntervals ChooseNoiseIntervals(const LikelihoodSettings& settings, const nl
   return out;
 }
 
+double SpreadFactor(double scale, double sd, double prior_sd) {
+  if (!(scale > 0.0) || !std::isfinite(prior_sd) || !(prior_sd > 0.0) || !(sd > 0.0)) return scale > 0.0 ? scale : 1.0;
+  // Posterior precision = prior's + likelihood's; the likelihood's grows by 1/scale².
+  const double prior_precision = 1.0 / (prior_sd * prior_sd);
+  const double likelihood_precision = std::max(0.0, 1.0 / (sd * sd) - prior_precision);
+  return std::sqrt((1.0 / (sd * sd)) / (prior_precision + likelihood_precision / (scale * scale)));
+}
+
 void ScaleIntervals(double scale, const std::vector<double>& prior_sd, opt::SamplerSummary* summary) {
   if (!(scale > 0.0) || scale == 1.0) return;
   for (size_t i = 0; i < summary->parameters.size(); ++i) {
     opt::ParameterSummary& p = summary->parameters[i];
-    double factor = scale;
-    const double sd = i < prior_sd.size() ? prior_sd[i] : std::numeric_limits<double>::infinity();
-    if (std::isfinite(sd) && sd > 0.0 && p.sd > 0.0) {
-      // Posterior precision = prior's + likelihood's; the likelihood's grows by 1/scale².
-      const double prior_precision = 1.0 / (sd * sd);
-      const double likelihood_precision = std::max(0.0, 1.0 / (p.sd * p.sd) - prior_precision);
-      factor = std::sqrt((1.0 / (p.sd * p.sd)) / (prior_precision + likelihood_precision / (scale * scale)));
-    }
+    const double factor =
+        SpreadFactor(scale, p.sd, i < prior_sd.size() ? prior_sd[i] : std::numeric_limits<double>::infinity());
     // Toward the MAP, which lies inside the support: the moved values stay inside it too.
     for (double* v : {&p.mean, &p.q025, &p.q975}) *v = p.map + factor * (*v - p.map);
     p.sd *= factor;

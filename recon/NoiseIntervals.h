@@ -37,6 +37,12 @@ struct NoiseIntervals {
 NoiseIntervals ChooseNoiseIntervals(const LikelihoodSettings& settings, const nlohmann::json& calibration,
                                     Diagnosis::Verdict verdict);
 
+// The factor a parameter's spread is multiplied by when the intervals are stated at a κ whose
+// likelihood-only spread is `scale` times the chains': `scale` for a uniform prior
+// (`prior_sd` infinite), nearer 1 where a normal prior of sd `prior_sd` holds the parameter
+// too (posterior sd `sd`), 1 where the prior alone does.
+double SpreadFactor(double scale, double sd, double prior_sd);
+
 // Mean and quantiles moved toward the MAP, sd and the Laplace sd multiplied, by each
 // parameter's factor: `scale` where the likelihood alone sets its spread (a uniform prior:
 // `prior_sd` infinite or absent); less where a normal prior of sd `prior_sd[i]` holds it too,

@@ -75,6 +75,21 @@ TEST(Diagnosis, OkOnlyWhenResidualsLookLikeNoiseAndChainsAgree) {
   EXPECT_TRUE(d.notes.empty());
 }
 
+TEST(Diagnosis, JudgesTheConstraintByTheSdTheRunStates) {
+  // The chains' sd, 0.156, is more than half the uniform prior's 1/√12 ≈ 0.289; stated at the
+  // noise's κ, a quarter of the sandwich's, it is 0.078: constrained.
+  Inputs in;
+  in.summary.parameters[0].sd = 0.3 / std::sqrt(12.0) * 1.8;
+  in.summary.calibration = {{"kappa", 100.0}, {"noise_correlation", {{"kappa", 25.0}, {"rings", {1.0}}}}};
+  EXPECT_FALSE(Mentions(in.Run(), "barely constrained"));
+  in.summary.calibration["noise_correlation"]["kappa"] = 100.0;  // nothing to shrink by
+  EXPECT_TRUE(Mentions(in.Run(), "barely constrained"));
+  // Model error keeps the sandwich's width, and the note with it.
+  in.summary.calibration["noise_correlation"]["kappa"] = 25.0;
+  in.nodes[1].outlier_views = 400;
+  EXPECT_TRUE(Mentions(in.Run(), "barely constrained"));
+}
+
 TEST(Diagnosis, NamesTheNodeThatDisagrees) {
   Inputs in;
   in.nodes[1].outlier_views = 400;  // 20 % of the box's views are outliers
