@@ -131,7 +131,8 @@ Diagnosis Diagnose(const Scene& scene, const Evaluation& at_map, double sigma_25
     const Prior& prior = scene.parameters[i].prior;
     const bool uniform = prior.kind == Prior::Kind::Uniform;
     const double prior_sd = uniform ? (prior.b - prior.a) / std::sqrt(12.0) : prior.b;
-    const double sd = p.sd * SpreadFactor(scale, p.sd, uniform ? std::numeric_limits<double>::infinity() : prior_sd);
+    const double sd =
+        p.sd * SpreadFactor(scale, p.sd, uniform ? std::numeric_limits<double>::infinity() : prior_sd, p.laplace_sd);
     if (sd > 0.5 * prior_sd)
       other.push_back(p.name + Format(" is barely constrained by the images (posterior sd %g against the prior's %g)",
                                       sd, prior_sd));

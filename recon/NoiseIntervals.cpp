@@ -44,24 +44,36 @@ NoiseIntervals ChooseNoiseIntervals(const LikelihoodSettings& settings, const nl
   return out;
 }
 
-double SpreadFactor(double scale, double sd, double prior_sd) {
-  if (!(scale > 0.0) || !std::isfinite(prior_sd) || !(prior_sd > 0.0) || !(sd > 0.0)) return scale > 0.0 ? scale : 1.0;
-  // Posterior precision = prior's + likelihood's; the likelihood's grows by 1/scale².
+namespace {
+
+// A Gaussian posterior's factor: its precision is the prior's plus the likelihood's, and only
+// the likelihood's grows, by 1/scale².
+double GaussianFactor(double scale, double sd, double prior_sd) {
+  if (!(scale > 0.0)) return 1.0;
+  if (!std::isfinite(prior_sd) || !(prior_sd > 0.0) || !(sd > 0.0)) return scale;
   const double prior_precision = 1.0 / (prior_sd * prior_sd);
   const double likelihood_precision = std::max(0.0, 1.0 / (sd * sd) - prior_precision);
   return std::sqrt((1.0 / (sd * sd)) / (prior_precision + likelihood_precision / (scale * scale)));
+}
+
+}  // namespace
+
+double SpreadFactor(double scale, double sd, double prior_sd, double laplace_sd) {
+  if (!(laplace_sd > 0.0) || !std::isfinite(laplace_sd) || !(sd > laplace_sd)) return GaussianFactor(scale, sd, prior_sd);
+  const double gaussian = laplace_sd * GaussianFactor(scale, laplace_sd, prior_sd);
+  return std::sqrt(sd * sd - laplace_sd * laplace_sd + gaussian * gaussian) / sd;
 }
 
 void ScaleIntervals(double scale, const std::vector<double>& prior_sd, opt::SamplerSummary* summary) {
   if (!(scale > 0.0) || scale == 1.0) return;
   for (size_t i = 0; i < summary->parameters.size(); ++i) {
     opt::ParameterSummary& p = summary->parameters[i];
-    const double factor =
-        SpreadFactor(scale, p.sd, i < prior_sd.size() ? prior_sd[i] : std::numeric_limits<double>::infinity());
+    const double prior = i < prior_sd.size() ? prior_sd[i] : std::numeric_limits<double>::infinity();
+    const double factor = SpreadFactor(scale, p.sd, prior, p.laplace_sd);
     // Toward the MAP, which lies inside the support: the moved values stay inside it too.
     for (double* v : {&p.mean, &p.q025, &p.q975}) *v = p.map + factor * (*v - p.map);
+    p.laplace_sd *= SpreadFactor(scale, p.laplace_sd, prior, p.laplace_sd);
     p.sd *= factor;
-    p.laplace_sd *= factor;
   }
 }
 

@@ -37,17 +37,19 @@ struct NoiseIntervals {
 NoiseIntervals ChooseNoiseIntervals(const LikelihoodSettings& settings, const nlohmann::json& calibration,
                                     Diagnosis::Verdict verdict);
 
-// The factor a parameter's spread is multiplied by when the intervals are stated at a κ whose
-// likelihood-only spread is `scale` times the chains': `scale` for a uniform prior
-// (`prior_sd` infinite), nearer 1 where a normal prior of sd `prior_sd` holds the parameter
-// too (posterior sd `sd`), 1 where the prior alone does.
-double SpreadFactor(double scale, double sd, double prior_sd);
+// The factor a parameter's spread (the chains' sd `sd`) is multiplied by when the intervals are
+// stated at a κ whose likelihood-only spread is `scale` times the chains'. Only the part the
+// curvature at the mode explains shrinks: where the chains spread wider than the Laplace sd
+// `laplace_sd`, the likelihood is flatter than a Gaussian there (a plateau, a ridge of nearly
+// equal fits), and tempering leaves that excess variance sd² − laplace_sd² as it is. The
+// Gaussian part shrinks by `scale` under a uniform prior (`prior_sd` infinite), less where a
+// normal prior of sd `prior_sd` holds the parameter too, not at all where the prior alone does.
+// A `laplace_sd` that is not a positive number counts the whole spread as Gaussian.
+double SpreadFactor(double scale, double sd, double prior_sd, double laplace_sd);
 
-// Mean and quantiles moved toward the MAP, sd and the Laplace sd multiplied, by each
-// parameter's factor: `scale` where the likelihood alone sets its spread (a uniform prior:
-// `prior_sd` infinite or absent); less where a normal prior of sd `prior_sd[i]` holds it too,
-// since only the likelihood's share of its precision grows (in the Gaussian approximation,
-// parameter by parameter). chain.csv keeps the draws as sampled.
+// Mean and quantiles moved toward the MAP, sd multiplied, by each parameter's SpreadFactor
+// (`prior_sd[i]`: a normal prior's sd, infinite or absent for a uniform one); the Laplace sd by
+// its own. chain.csv keeps the draws as sampled.
 void ScaleIntervals(double scale, const std::vector<double>& prior_sd, opt::SamplerSummary* summary);
 
 nlohmann::json ToJson(const NoiseIntervals& intervals);

@@ -58,16 +58,16 @@ TEST(NoiseIntervals, SettingsAndMissingMeasurementsKeepTheChainsKappa) {
 TEST(NoiseIntervals, SummariesMoveTowardTheMap) {
   opt::SamplerSummary summary;
   opt::ParameterSummary p;
-  p.map = 1.0, p.mean = 1.1, p.q025 = 0.5, p.q975 = 1.5, p.sd = 0.3, p.laplace_sd = 0.2, p.rhat = 1.2, p.ess = 80;
+  p.map = 1.0, p.mean = 1.1, p.q025 = 0.5, p.q975 = 1.5, p.sd = 0.3, p.laplace_sd = 0.4, p.rhat = 1.2, p.ess = 80;
   summary.parameters = {p};
-  ScaleIntervals(0.5, {}, &summary);  // uniform priors
+  ScaleIntervals(0.5, {}, &summary);  // uniform priors, a spread the curvature explains
   const opt::ParameterSummary& q = summary.parameters[0];
   EXPECT_DOUBLE_EQ(q.map, 1.0);
   EXPECT_DOUBLE_EQ(q.mean, 1.05);
   EXPECT_DOUBLE_EQ(q.q025, 0.75);
   EXPECT_DOUBLE_EQ(q.q975, 1.25);
   EXPECT_DOUBLE_EQ(q.sd, 0.15);
-  EXPECT_DOUBLE_EQ(q.laplace_sd, 0.1);
+  EXPECT_DOUBLE_EQ(q.laplace_sd, 0.2);
   EXPECT_DOUBLE_EQ(q.rhat, 1.2);  // the chains' mixing is theirs
   EXPECT_DOUBLE_EQ(q.ess, 80);
 }
@@ -80,7 +80,7 @@ TEST(NoiseIntervals, ANormalPriorsShareOfThePrecisionStays) {
   p.map = 0.0, p.mean = 0.0, p.q025 = -1.0, p.q975 = 1.0, p.sd = 0.5, p.laplace_sd = 0.5;
   opt::ParameterSummary flat = p;
   opt::ParameterSummary prior_only = p;
-  prior_only.sd = 1.0;  // as wide as its prior: the photographs say nothing about it
+  prior_only.sd = prior_only.laplace_sd = 1.0;  // as wide as its prior: the photographs say nothing
   summary.parameters = {p, flat, prior_only};
   ScaleIntervals(0.5, {1.0, std::numeric_limits<double>::infinity(), 1.0}, &summary);
   EXPECT_NEAR(summary.parameters[0].sd, 1.0 / std::sqrt(13.0), 1e-12);
@@ -88,6 +88,25 @@ TEST(NoiseIntervals, ANormalPriorsShareOfThePrecisionStays) {
   EXPECT_DOUBLE_EQ(summary.parameters[1].sd, 0.25);
   EXPECT_DOUBLE_EQ(summary.parameters[2].sd, 1.0);
   EXPECT_DOUBLE_EQ(summary.parameters[2].q025, -1.0);
+}
+
+TEST(NoiseIntervals, SpreadBeyondTheCurvaturesIsNotShrunk) {
+  // The chains spread 0.5 where the curvature at the mode says 0.3: a plateau holds the extra
+  // variance 0.25 − 0.09 = 0.16, which a smaller κ does not narrow; the Gaussian 0.09 shrinks
+  // to 0.09/4.
+  const double uniform = std::numeric_limits<double>::infinity();
+  EXPECT_NEAR(SpreadFactor(0.5, 0.5, uniform, 0.3), std::sqrt(0.16 + 0.0225) / 0.5, 1e-12);
+  EXPECT_DOUBLE_EQ(SpreadFactor(0.5, 0.2, uniform, 0.3), 0.5);  // narrower than the curvature's: all of it
+  EXPECT_DOUBLE_EQ(SpreadFactor(0.5, 0.2, uniform, std::nan("")), 0.5);
+  EXPECT_DOUBLE_EQ(SpreadFactor(1.0, 0.5, uniform, 0.3), 1.0);
+  opt::SamplerSummary summary;
+  opt::ParameterSummary p;
+  p.map = 0.0, p.mean = 0.1, p.q025 = -1.0, p.q975 = 1.0, p.sd = 0.5, p.laplace_sd = 0.3;
+  summary.parameters = {p};
+  ScaleIntervals(0.5, {}, &summary);
+  EXPECT_NEAR(summary.parameters[0].sd, std::sqrt(0.1825), 1e-12);
+  EXPECT_NEAR(summary.parameters[0].q975, std::sqrt(0.1825) / 0.5, 1e-12);
+  EXPECT_DOUBLE_EQ(summary.parameters[0].laplace_sd, 0.15);
 }
 
 TEST(NoiseIntervals, WrittenToMapJson) {
