@@ -92,6 +92,7 @@ py::dict Evaluate(PyLikelihood& l, py::array_t<double, py::array::c_style | py::
   d["total"] = column([](const vkr::Evaluation& e) { return e.total(); });
   d["log_likelihood"] = column([](const vkr::Evaluation& e) { return e.log_likelihood; });
   d["log_occlusion_prior"] = column([](const vkr::Evaluation& e) { return e.log_occlusion_prior; });
+  d["log_edges"] = column([](const vkr::Evaluation& e) { return e.log_edges; });
   d["sum_squares"] = column([](const vkr::Evaluation& e) { return e.scalars.sum_squares; });
   d["dof"] = column([](const vkr::Evaluation& e) { return e.scalars.dof; });
   d["seen_multi"] = column([](const vkr::Evaluation& e) { return e.scalars.seen_multi; });

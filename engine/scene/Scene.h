@@ -145,6 +145,9 @@ struct LikelihoodSettings {
   // Mask what the photographs show that the scene leaves out, found at the mode a run
   // settles on (pipelines/likelihood/ClutterMasks.h).
   bool clutter = true;
+  // The edge term of the surface likelihood (pipelines/model/EdgeEvidence.h): the model's
+  // contours and creases should lie on the photographs' edges.
+  bool edges = false;
   // Texels per side of the blocks behind κ, the sandwich factor (pipelines/likelihood/
   // NoiseCalibration.h): 8, 16, 32 or 64; 0 ("auto", the default) takes the largest κ over
   // those sizes.

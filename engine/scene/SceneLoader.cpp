@@ -73,7 +73,7 @@ bool IsWord(const Reader& r, const Json& j, const std::string& path, const char*
 
 void ReadLikelihood(const Reader& r, const Json& j, LikelihoodSettings& s) {
   const std::string path = "likelihood";
-  r.CheckObject(j, path, {"kind", "sigma", "weights", "atlas", "levels", "charts", "photometric", "clutter", "slot_images",
+  r.CheckObject(j, path, {"kind", "sigma", "weights", "atlas", "levels", "charts", "photometric", "clutter", "edges", "slot_images",
                          "partners", "partner_ranking", "sandwich_blocks", "sandwich_adjustment", "kappa",
                          "position_sd"});
   if (auto it = j.find("kind"); it != j.end()) {
@@ -124,6 +124,10 @@ void ReadLikelihood(const Reader& r, const Json& j, LikelihoodSettings& s) {
   if (auto it = j.find("clutter"); it != j.end()) {
     if (!it->is_boolean()) r.Fail("likelihood.clutter", "expected true or false");
     s.clutter = it->get<bool>();
+  }
+  if (auto it = j.find("edges"); it != j.end()) {
+    if (!it->is_boolean()) r.Fail("likelihood.edges", "expected true or false");
+    s.edges = it->get<bool>();
   }
   if (auto it = j.find("sandwich_blocks"); it != j.end() &&
                                              IsWord(r, *it, "likelihood.sandwich_blocks", "auto", "8, 16, 32 or 64")) {

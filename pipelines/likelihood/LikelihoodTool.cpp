@@ -201,6 +201,8 @@ void WriteEvaluationJson(const fs::path& file, const LikelihoodToolOptions& opti
   const Evaluation& e = r.evaluation;
   j["log_likelihood"] = e.log_likelihood;
   j["log_occlusion_prior"] = e.log_occlusion_prior;
+  j["log_edges"] = e.log_edges;
+  j["edge_length"] = e.edge_length;
   j["total"] = e.total();
   j["sum_squares"] = e.scalars.sum_squares;
   j["dof"] = e.scalars.dof;
@@ -298,6 +300,10 @@ std::string FormatReport(const LikelihoodReport& r) {
   const Evaluation& e = r.evaluation;
   row("log_likelihood", Number(e.log_likelihood));
   row("log_occlusion_prior", Number(e.log_occlusion_prior));
+  if (e.edge_length > 0.0) {
+    row("log_edges", Number(e.log_edges));
+    row("edge_length", Number(e.edge_length));
+  }
   row("total", Number(e.total()));
   row("sum_squares", Number(e.scalars.sum_squares));
   row("dof", Number(e.scalars.dof));
@@ -408,13 +414,14 @@ SweepResult Sweep(const LikelihoodToolOptions& options, const SweepSpec& spec, v
 
 void WriteSweepCsv(std::ostream& out, const SweepResult& sweep) {
   out << "value,loglik,log_likelihood,log_occlusion_prior,sum_squares,dof,seen_multi,seen_once,"
-         "seen_none,interior\n";
+         "seen_none,interior,log_edges,edge_length\n";
   for (const SweepRow& r : sweep.rows) {
     const Evaluation& e = r.evaluation;
     out << Number(r.value) << ',' << Number(e.total()) << ',' << Number(e.log_likelihood) << ','
         << Number(e.log_occlusion_prior) << ',' << Number(e.scalars.sum_squares) << ','
         << Number(e.scalars.dof) << ',' << e.scalars.seen_multi << ',' << e.scalars.seen_once << ','
-        << e.scalars.seen_none << ',' << e.scalars.interior << '\n';
+        << e.scalars.seen_none << ',' << e.scalars.interior << ',' << Number(e.log_edges) << ','
+        << Number(e.edge_length) << '\n';
   }
 }
 

@@ -11,6 +11,7 @@
 #include "engine/vk/Commands.h"
 #include "pipelines/passes/CompositePass.h"
 #include "pipelines/passes/DepthPass.h"
+#include "pipelines/passes/EdgePass.h"
 #include "pipelines/passes/GpuScene.h"
 #include "pipelines/passes/ViewTexel.h"
 #include "pipelines/passes/InteriorPass.h"
@@ -42,6 +43,10 @@ bool SurfaceLikelihoodOptions::IsValid(std::string* why) const {
   if (max_batch < 1) return fail("max_batch must be ≥ 1");
   if (!(depth_tolerance >= 0.0 && depth_tolerance < 0.5)) return fail("depth_tolerance must be in [0, 0.5)");
   if (!(model.position_sd >= 0.0 && model.position_sd <= 10.0)) return fail("position_sd must be in [0, 10] pixels");
+  if (!(edge_model.hidden > 0.0 && edge_model.hidden < 1.0)) return fail("edge_model.hidden must be in (0, 1)");
+  if (!(edge_model.min_clutter > 0.0 && edge_model.min_clutter <= edge_model.max_clutter &&
+        edge_model.max_clutter < 1.0))
+    return fail("edge_model's clutter bounds must satisfy 0 < min ≤ max < 1");
   return true;
 }
 
@@ -84,6 +89,7 @@ SurfaceLikelihoodOptions SurfaceLikelihoodOptions::FromScene(const Scene& scene)
   o.atlas = resolved.atlas;
   o.levels = resolved.levels;
   o.max_batch = scene.sampler.batch;
+  o.edges = scene.likelihood.edges;
   if (!FromString(scene.likelihood.slot_images, &o.slot_images))
     throw InputError(scene.file.string(), "likelihood.slot_images", "must be auto, shared or per_slot");
   return o;
@@ -97,6 +103,8 @@ struct CameraImages {
   vk::GpuImage validity;            // R8, the reference's mips: 1 = comparable (none: every pixel is)
   Image own_validity;               // the camera's mask and lens frame (empty: all valid), before clutter
   int width = 0, height = 0;
+  // Per pyramid level, neighbouring pixels' differences: the edge term's ε (EdgeEvidence.h).
+  std::vector<PairContrasts> pair_contrasts;
 };
 
 // What one hypothesis of a submission writes and reads back: its cameras' depth maps, the
@@ -116,6 +124,10 @@ namespace {
 
 constexpr int kTimestampsPerHypothesis = 5;  // start, depth, view, interior, composite
 
+// The passes that read a depth map: the view pass, and the edge pass.
+constexpr VkPipelineStageFlags2 kDepthReaders =
+    VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT | VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT;
+
 
 }  // namespace
 
@@ -134,6 +146,7 @@ struct SurfaceLikelihood::Impl {
   InteriorPass interior_pass;
   ViewCulling culling;
   std::unique_ptr<CompositePass> composite_pass;
+  std::unique_ptr<EdgePass> edge_pass;  // null where the edge term is off
   std::unique_ptr<vk::TimestampQueries> timestamps;
   PhotometricCorrection photometric;
   int level = 0;
@@ -157,9 +170,24 @@ struct SurfaceLikelihood::Impl {
   // validity changes: between submissions, never while one is in flight).
   void BindCamera(int i) {
     for (size_t s = 0; s < slots.size(); ++s)
-      for (int l = 0; l < options.levels; ++l)
+      for (int l = 0; l < options.levels; ++l) {
         view_pass->BindImages(ViewBinding(int(s), i, l), cameras[size_t(i)].reference.view(),
                               slots[s].depth[size_t(i)][size_t(l)].view(), cameras[size_t(i)].validity.view());
+        if (edge_pass)
+          edge_pass->BindImages(ViewBinding(int(s), i, l), cameras[size_t(i)].reference.view(),
+                                slots[s].depth[size_t(i)][size_t(l)].view(), cameras[size_t(i)].validity.view());
+      }
+  }
+
+  // Camera i's edge statistic at the current level and σ: a difference of two pixels of the
+  // level, each averaging 4^level pixels of noise σ.
+  EdgeStatistic EdgeStatisticOf(int i) const {
+    EdgeStatistic s;
+    const double sigma = options.model.sigma / 255.0;
+    s.variance = 2.0 * sigma * sigma / std::exp2(2.0 * level);
+    s.clutter = ClutterShare(cameras[size_t(i)].pair_contrasts[size_t(level)], s.variance, options.edge_model);
+    s.hidden = options.edge_model.hidden;
+    return s;
   }
 
   // The view pass's image set of camera i at level l for the images of `slot_images`.
@@ -205,13 +233,13 @@ struct SurfaceLikelihood::Impl {
       const vk::GpuImage& depth = own.depth[i][size_t(level)];
       // The previous hypothesis's view pass read this depth map: write after read.
       vk::ImageBarrier(cmd, depth, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL,
-                       shared ? VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT : VK_PIPELINE_STAGE_2_NONE, 0,
+                       shared ? kDepthReaders : VK_PIPELINE_STAGE_2_NONE, 0,
                        VK_PIPELINE_STAGE_2_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT,
                        VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_READ_BIT | VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT);
       depth_pass.record(cmd, views_at_level.back().clip_from_world, slot, depth);
       vk::ImageBarrier(cmd, depth, VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL,
                        VK_IMAGE_LAYOUT_DEPTH_READ_ONLY_OPTIMAL, VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT,
-                       VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT, VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT,
+                       VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT, kDepthReaders,
                        VK_ACCESS_2_SHADER_SAMPLED_READ_BIT);
     }
     Timestamp(cmd, ts + 1);
@@ -227,6 +255,12 @@ struct SurfaceLikelihood::Impl {
       view_pass->record(cmd, views_at_level[i], draws, ViewBinding(images, int(i), level), slot, own.view_layers[i],
                         LevelAtlas(), dump || !own.defined);
     }
+    if (edge_pass)
+      for (size_t i = 0; i < cams.size(); ++i) {
+        const Eigen::Vector2d size(cameras[i].width, cameras[i].height);
+        edge_pass->record(cmd, views_at_level[i], size / std::exp2(level), EdgeStatisticOf(int(i)),
+                          ViewBinding(images, int(i), level), slot, int(i));
+      }
     Timestamp(cmd, ts + 2);
     interior_pass.record(cmd, slot, own.mask, LevelAtlas());
     Timestamp(cmd, ts + 3);
@@ -260,12 +294,22 @@ struct SurfaceLikelihood::Impl {
     if (timestamps) timestamps->Reset(cmd);
     for (size_t k = 0; k < batch.size(); ++k) RecordHypothesis(cmd, int(k), cams[k], world[k], dump);
     composite_pass->record_reduce(cmd, int(batch.size()), LevelAtlas());
+    if (edge_pass) edge_pass->record_finish(cmd);
     if (timestamps) timestamps->Write(cmd, uint32_t(batch.size()) * kTimestampsPerHypothesis);
     context.SubmitAndWait();
     for (size_t k = 0; k < batch.size(); ++k) slots[size_t(ImagesOf(int(k)))].defined = true;
     last_batch = int(batch.size());
     std::vector<Evaluation> out;
-    for (size_t k = 0; k < batch.size(); ++k) out.push_back(Score(composite_pass->Result(int(k)), options.model));
+    for (size_t k = 0; k < batch.size(); ++k) {
+      Evaluation e = Score(composite_pass->Result(int(k)), options.model);
+      if (edge_pass)
+        for (size_t i = 0; i < cameras.size(); ++i) {
+          const Eigen::Vector2d sums = edge_pass->Result(int(k), int(i));
+          e.log_edges += sums.x();
+          e.edge_length += sums.y();
+        }
+      out.push_back(e);
+    }
     return out;
   }
 };
@@ -290,6 +334,12 @@ SurfaceLikelihood::SurfaceLikelihood(vk::Device& device, const Scene& scene,
     images.own_validity = photo.validity;
     images.width = image.width;
     images.height = image.height;
+    if (options.edges) {
+      const std::vector<Image> pyramid = BuildPyramid(image, levels);
+      const std::vector<Image> validity =
+          photo.validity.Empty() ? std::vector<Image>(size_t(levels)) : BuildValidityPyramid(photo.validity, levels);
+      for (int l = 0; l < levels; ++l) images.pair_contrasts.emplace_back(pyramid[size_t(l)], validity[size_t(l)]);
+    }
     m.cameras.push_back(std::move(images));
   }
   const uint32_t atlas = uint32_t(options.atlas);
@@ -319,6 +369,9 @@ SurfaceLikelihood::SurfaceLikelihood(vk::Device& device, const Scene& scene,
   for (const surface_detail::SlotImages& slot : m.slots) composite_inputs.push_back({&slot.views, &slot.mask});
   m.view_pass = std::make_unique<ViewTexturePass>(device, m.gpu_scene, slot_sets * n * levels,
                                                   options.weights == ViewWeights::Angle, options.depth_tolerance);
+  if (options.edges)
+    m.edge_pass = std::make_unique<EdgePass>(device, m.gpu_scene, FindModelEdges(m.geometry), slot_sets * n * levels,
+                                             n, options.max_batch, options.depth_tolerance);
   for (int i = 0; i < n; ++i) m.BindCamera(i);
   m.composite_pass = std::make_unique<CompositePass>(device, composite_inputs, m.geometry.atlas, levels,
                                                     options.max_batch);

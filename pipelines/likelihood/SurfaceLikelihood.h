@@ -17,6 +17,7 @@
 #include "engine/image/Image.h"
 #include "engine/scene/Scene.h"
 #include "engine/vk/Device.h"
+#include "pipelines/model/EdgeEvidence.h"
 #include "pipelines/model/Evaluation.h"
 #include "pipelines/model/Photometric.h"
 
@@ -51,9 +52,13 @@ struct SurfaceLikelihoodOptions {
   // nothing.
   bool cull_views = true;
   SlotImages slot_images = SlotImages::Auto;
+  // The edge term (EdgeEvidence.h): model contours and creases should lie on the
+  // photographs' edges. Off: Evaluation::log_edges stays 0.
+  bool edges = false;
+  EdgeModel edge_model;
 
   bool IsValid(std::string* why) const;
-  // Reads σ, weights, atlas, levels and the photometric model from the scene's "likelihood" settings.
+  // Reads σ, weights, atlas, levels, the photometric model and the edge term from the scene's "likelihood" settings.
   static SurfaceLikelihoodOptions FromScene(const Scene& scene);
 };
 

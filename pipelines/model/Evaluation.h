@@ -71,8 +71,14 @@ struct Evaluation {
   ReducedScalars scalars;
   double log_likelihood = 0.0;     // with or without the χ² correction, per the model
   double log_occlusion_prior = 0.0;
-  // log_likelihood + log_occlusion_prior: what the sampler adds to the parameter prior.
-  double total() const { return log_likelihood + log_occlusion_prior; }
+  // The edge term (EdgeEvidence.h), 0 where it is off: Σ over the cameras' visible model edges
+  // of the log-ratio "an edge is here" over "none is", and the length it was scored over
+  // (level pixels).
+  double log_edges = 0.0;
+  double edge_length = 0.0;
+  // log_likelihood + log_edges + log_occlusion_prior: what the sampler adds to the parameter
+  // prior.
+  double total() const { return log_likelihood + log_edges + log_occlusion_prior; }
 };
 
 // S/σ²/N at σ (0–255 scale): 1 when the views disagree exactly as much as noise σ makes

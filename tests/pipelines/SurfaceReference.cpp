@@ -89,11 +89,8 @@ bool InsidePrimitive(PrimitiveKind kind, const Eigen::Vector3d& p) {
   return false;
 }
 
-struct WorldTriangle {
-  Eigen::Vector3d v0, e1, e2;  // v0 and the edges v1 − v0, v2 − v0
-};
+}  // namespace
 
-// Möller–Trumbore: whether the segment o + t·d hits the triangle for t ∈ (kRayStart, kRayEnd).
 bool SegmentHits(const WorldTriangle& tri, const Eigen::Vector3d& o, const Eigen::Vector3d& d) {
   const Eigen::Vector3d pv = d.cross(tri.e2);
   const double det = tri.e1.dot(pv);
@@ -108,6 +105,26 @@ bool SegmentHits(const WorldTriangle& tri, const Eigen::Vector3d& o, const Eigen
   const double t = tri.e2.dot(qv) * inv;
   return t > kRayStart && t < kRayEnd;
 }
+
+std::vector<WorldTriangle> WorldTriangles(const SceneGeometry& geometry,
+                                          const std::vector<Eigen::Matrix4d>& world_from_node) {
+  const size_t triangle_count = geometry.indices.size() / 3;
+  std::vector<WorldTriangle> world_triangles(triangle_count);
+  auto world_vertex = [&](uint32_t index) {
+    const GpuVertex& v = geometry.vertices[index];
+    const Eigen::Vector4d p(v.position[0], v.position[1], v.position[2], 1.0);
+    return Eigen::Vector3d((world_from_node[v.node] * p).head<3>());
+  };
+  for (size_t t = 0; t < triangle_count; ++t) {
+    const Eigen::Vector3d a = world_vertex(geometry.indices[3 * t]);
+    const Eigen::Vector3d b = world_vertex(geometry.indices[3 * t + 1]);
+    const Eigen::Vector3d c = world_vertex(geometry.indices[3 * t + 2]);
+    world_triangles[t] = {a, b - a, c - a};
+  }
+  return world_triangles;
+}
+
+namespace {
 
 // A camera at one pyramid level.
 struct LevelCamera {
@@ -243,19 +260,12 @@ ReducedScalars ReferenceSurfaceScalars(const Scene& scene, const SceneGeometry& 
   }
 
   // Every triangle of the scene in world space at Ψ, the occluders of the visibility test.
-  const size_t triangle_count = geometry.indices.size() / 3;
-  std::vector<WorldTriangle> world_triangles(triangle_count);
+  const std::vector<WorldTriangle> world_triangles = WorldTriangles(geometry, world_from_node);
   auto world_vertex = [&](uint32_t index) {
     const GpuVertex& v = geometry.vertices[index];
     const Eigen::Vector4d p(v.position[0], v.position[1], v.position[2], 1.0);
     return Eigen::Vector3d((world_from_node[v.node] * p).head<3>());
   };
-  for (size_t t = 0; t < triangle_count; ++t) {
-    const Eigen::Vector3d a = world_vertex(geometry.indices[3 * t]);
-    const Eigen::Vector3d b = world_vertex(geometry.indices[3 * t + 1]);
-    const Eigen::Vector3d c = world_vertex(geometry.indices[3 * t + 2]);
-    world_triangles[t] = {a, b - a, c - a};
-  }
 
   const double sigma = options.model.sigma / 255.0;
   const double sigma2 = sigma * sigma;

@@ -99,6 +99,17 @@ ReducedScalars ReferenceSurfaceScalars(const Scene& scene, const SceneGeometry& 
                                        const std::vector<std::vector<Image>>* validity = nullptr,
                                        const PhotometricCorrection* photometric = nullptr);
 
+// A triangle of the scene in world space: v0 and the edges v1 − v0, v2 − v0.
+struct WorldTriangle {
+  Eigen::Vector3d v0, e1, e2;
+};
+// Every triangle of `geometry` at the node matrices of a hypothesis, in index order.
+std::vector<WorldTriangle> WorldTriangles(const SceneGeometry& geometry,
+                                          const std::vector<Eigen::Matrix4d>& world_from_node);
+// Möller–Trumbore: whether the segment o + t·d hits the triangle for t ∈ (10⁻⁴, 1 − 10⁻⁶),
+// so that neither the surface the segment starts on nor the point it ends at counts.
+bool SegmentHits(const WorldTriangle& tri, const Eigen::Vector3d& o, const Eigen::Vector3d& d);
+
 // ---- Test scenes shared by the reference's own tests and the GPU comparison ----
 
 // A scene-file camera entry (JSON object text) looking from `eye` at `target`, Z-up world,
