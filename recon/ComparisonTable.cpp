@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <iterator>
 #include <sstream>
 
 #include "engine/common/InputError.h"
@@ -148,12 +149,17 @@ void CheckOneLikelihood(const std::vector<ComparedScene>& rows) {
                          Fixed(b, 6) + " against " + Fixed(a, 6) + " in " + rows.front().name +
                              ": the evidences are of different likelihoods and do not compare");
     }
-    for (const char* key : {"kind", "photometric", "clutter"})
-      if (first.value(key, nlohmann::json()) != r.likelihood.value(key, nlohmann::json()))
+    // A run from before the edge term had none.
+    const nlohmann::json unstated[] = {nullptr, nullptr, nullptr, false};
+    const char* const words[] = {"kind", "photometric", "clutter", "edges"};
+    for (size_t k = 0; k < std::size(words); ++k) {
+      const char* key = words[k];
+      if (first.value(key, unstated[k]) != r.likelihood.value(key, unstated[k]))
         throw InputError(file, std::string("evidence.likelihood.") + key,
-                         r.likelihood.value(key, nlohmann::json()).dump() + " against " +
-                             first.value(key, nlohmann::json()).dump() + " in " + rows.front().name +
+                         r.likelihood.value(key, unstated[k]).dump() + " against " +
+                             first.value(key, unstated[k]).dump() + " in " + rows.front().name +
                              ": the evidences are of different likelihoods and do not compare");
+    }
   }
 }
 

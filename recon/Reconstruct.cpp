@@ -355,7 +355,8 @@ nlohmann::json EvidenceLikelihood(const Scene& scene, const nlohmann::json& cali
           {"kappa_fixed", scene.likelihood.kappa > 0.0},
           {"kind", scene.likelihood.kind},
           {"photometric", scene.likelihood.photometric},
-          {"clutter", scene.likelihood.clutter}};
+          {"clutter", scene.likelihood.clutter},
+          {"edges", scene.likelihood.edges}};
 }
 
 }  // namespace

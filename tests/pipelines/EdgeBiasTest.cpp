@@ -5,9 +5,10 @@
 //
 // The enabled tests guard the asset and document today's behaviour: the mode lies off the
 // truth, with the roof's overhang shrunk, and the occlusion prior's charge for texels one view
-// sees — not photo-consistency — pays for it; a CPU edge score prefers the truth. The
+// sees — not photo-consistency — pays for it; a CPU edge score prefers the truth, and with the
+// likelihood's edge term (likelihood.edges) the ridge stays where it is. The
 // DISABLED_ tests state what a fixed likelihood must do (the truth is the best point along
-// each line through it) and fail today; run them with
+// each line through it) and fail today, with the edge term too; run them with
 //   build/tests/pipelines_tests --gtest_also_run_disabled_tests --gtest_filter='EdgeBias*'
 
 #include <gtest/gtest.h>
@@ -96,6 +97,7 @@ class EdgeBias : public test::GpuTest {
     options.overrides = {{"cameras", (dir_ / "cameras.json").string()},
                          {"images", dir_.path().string()},
                          {"likelihood.sigma", "4"}};
+    if (edges_) options.overrides.push_back({"likelihood.edges", "true"});
     options.at_file = at;
     return options;
   }
@@ -131,9 +133,9 @@ class EdgeBias : public test::GpuTest {
     const SweepResult result = Sweep(Options(kAsset / "truth.json"), ParseSweep(sweep), device());
     const SweepRow* best = &result.rows.front();
     for (const SweepRow& row : result.rows) {
-      std::printf("  %s %.4f: total %.1f (photo-consistency %.1f, occlusion prior %.1f, one view %u)\n",
+      std::printf("  %s %.4f: total %.1f (photo-consistency %.1f, occlusion prior %.1f, edges %.1f over %.0f px)\n",
                   result.spec.parameter.c_str(), row.value, row.evaluation.total(), row.evaluation.log_likelihood,
-                  row.evaluation.log_occlusion_prior, row.evaluation.scalars.seen_once);
+                  row.evaluation.log_occlusion_prior, row.evaluation.log_edges, row.evaluation.edge_length);
       if (row.evaluation.total() > best->evaluation.total()) best = &row;
     }
     return best->value;
@@ -168,6 +170,7 @@ class EdgeBias : public test::GpuTest {
 
   test::TempDir dir_;
   mutable int written_ = 0;  // --at files written
+  bool edges_ = false;       // score with the edge term
 };
 
 TEST_F(EdgeBias, TodaysModeShrinksTheOverhangAndTheOcclusionPriorPaysForIt) {
@@ -193,34 +196,41 @@ TEST_F(EdgeBias, TodaysModeShrinksTheOverhangAndTheOcclusionPriorPaysForIt) {
   EXPECT_NEAR(BestOfSweep("rh=0.31:0.39:9"), 0.35, 1e-9);
 }
 
-// Fails today: the best overhang is 0.02, half the true 0.04 (photo-consistency alone peaks
-// at 0.03–0.04).
+// Fails today: the best overhang is 0.02 without the edge term, 0.03 with it (the edge term is
+// flat within half a pixel, 1,922 nats at both 0.03 and 0.04, while the occlusion prior pays
+// 380 for the smaller overhang; photo-consistency alone peaks at 0.03–0.04).
 TEST_F(EdgeBias, DISABLED_TheTrueOverhangIsTheBestAlongTheOverhang) {
+  edges_ = true;
   EXPECT_NEAR(BestOfSweep("e=0:0.08:9"), 0.04, 1e-9);
 }
 
-// Fails today: the likelihood climbs from the truth all the way to today's mode.
+// Fails today: without the edge term the likelihood climbs from the truth all the way to
+// today's mode; with it, halfway (t = 0.5: the edge term loses 100 nats there and 860 at the
+// mode, the occlusion prior gains 400 and 850).
 TEST_F(EdgeBias, DISABLED_TheTruthIsTheBestOnTheLineToTodaysMode) {
+  edges_ = true;
   double best_t = 0.0, best = -1e300;
   for (const double t : {-0.5, -0.25, 0.0, 0.25, 0.5, 0.75, 1.0, 1.25}) {
     const Evaluation e = At(OnTheWayToTodaysMode(t));
-    std::printf("  t %.2f: total %.1f (photo-consistency %.1f, occlusion prior %.1f)\n", t, e.total(),
-                e.log_likelihood, e.log_occlusion_prior);
+    std::printf("  t %.2f: total %.1f (photo-consistency %.1f, occlusion prior %.1f, edges %.1f over %.0f px)\n", t,
+                e.total(), e.log_likelihood, e.log_occlusion_prior, e.log_edges, e.edge_length);
     if (e.total() > best) best = e.total(), best_t = t;
   }
   EXPECT_EQ(best_t, 0.0);
 }
 
-// Fails today: with the ridge slid back (the house deeper, its ridge higher, the pitch kept)
-// the likelihood peaks at s = +0.075 (d +8 %), and at +0.175 where the chimneys are left out of
-// the photographs too.
-TEST_F(EdgeBias, DISABLED_TheTruthIsTheBestWithTheRidgeSlidBack) {
+// With the ridge slid back (the house deeper, its ridge higher, the pitch kept) the likelihood
+// without the edge term peaks at s = +0.075 (d +8 %), and at +0.175 where the chimneys are left
+// out of the photographs too. The edge term brings the peak back to the truth: the slid ridge
+// and eaves leave the photographs' edges (1,922 nats at the truth, 1,073 at s = +0.05).
+TEST_F(EdgeBias, WithEdgesTheTruthIsTheBestWithTheRidgeSlidBack) {
+  edges_ = true;
   double best_s = 0.0, best = -1e300;
   for (int k = -4; k <= 8; ++k) {
     const double s = 0.025 * k;
     const Evaluation e = At(WriteAt(RidgeSlidBack(s)));
-    std::printf("  s %+.3f: total %.1f (photo-consistency %.1f, occlusion prior %.1f)\n", s, e.total(),
-                e.log_likelihood, e.log_occlusion_prior);
+    std::printf("  s %+.3f: total %.1f (photo-consistency %.1f, occlusion prior %.1f, edges %.1f over %.0f px)\n", s,
+                e.total(), e.log_likelihood, e.log_occlusion_prior, e.log_edges, e.edge_length);
     if (e.total() > best) best = e.total(), best_s = s;
   }
   EXPECT_EQ(best_s, 0.0);

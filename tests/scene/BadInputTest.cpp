@@ -285,6 +285,8 @@ TEST(BadInput, VersionAndSettings) {
   EXPECT_TRUE(LoadFails(dir, scene, {"likelihood.kappa", "'estimate'", "\"auto\"", "\"sandwich\"", "\"noise\""}));
   scene["likelihood"] = Json{{"position_sd", -0.5}};
   EXPECT_TRUE(LoadFails(dir, scene, {"likelihood.position_sd", "[0, 10]"}));
+  scene["likelihood"] = Json{{"edges", "on"}};
+  EXPECT_TRUE(LoadFails(dir, scene, {"likelihood.edges", "true or false"}));
   scene.erase("likelihood");
   scene["synth"] = Json{{"sun", {0, 95}}};
   EXPECT_TRUE(LoadFails(dir, scene, {"synth.sun[1]", "must be in (0, 90]"}));

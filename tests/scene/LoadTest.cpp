@@ -31,7 +31,8 @@ constexpr const char* kDesignExample = R"({
      "transforms": [{"translate": [0, 0, 1]}, {"scale": [1, 1, "rh/h"]}]}
   ],
   "likelihood": {"kind": "surface", "sigma": 8.0, "weights": "angle", "atlas": 1024, "levels": 3,
-                 "sandwich_blocks": 32, "charts": "pixels", "kappa": 12.5, "position_sd": 0.25},
+                 "sandwich_blocks": 32, "charts": "pixels", "kappa": 12.5, "position_sd": 0.25,
+                 "edges": true},
   "sampler": {"iterations": 4000, "chains": 4, "batch": 16, "seed": 1}
 })";
 
@@ -67,6 +68,7 @@ TEST(Load, DesignExample) {
   EXPECT_EQ(s.likelihood.sandwich_blocks, 32);
   EXPECT_EQ(s.likelihood.kappa, 12.5);
   EXPECT_EQ(s.likelihood.position_sd, 0.25);
+  EXPECT_TRUE(s.likelihood.edges);
   EXPECT_EQ(s.likelihood.charts, "pixels");
   EXPECT_EQ(s.sampler.chains, 4);
 
@@ -103,6 +105,7 @@ TEST(Load, DefaultsForMissingSections) {
   EXPECT_EQ(s.likelihood.kappa_estimate, "auto");
   EXPECT_EQ(s.likelihood.position_sd, 0.5);
   EXPECT_EQ(s.likelihood.charts, "area");
+  EXPECT_FALSE(s.likelihood.edges);  // until the noise study is measured with it
   const SamplerSettings d;
   EXPECT_EQ(s.sampler.iterations, d.iterations);
   EXPECT_TRUE(s.sampler.iterations_auto);
