@@ -84,6 +84,7 @@ struct RowPlan {
   double x = 0.0;
   int batch = 1;
   int level = 0;          // pyramid level evaluated (0 = full resolution)
+  bool edges = false;     // with the surface likelihood's edge term (likelihood.edges)
   std::string scene_key;  // rows with the same key share one prepared scene
   std::function<BenchScene(const fs::path& dir, vk::Device& device)> prepare;
 };
@@ -188,6 +189,15 @@ std::vector<RowPlan> Plan(const BenchOptions& options) {
     row.prepare = asset("house", 6);
     plan.push_back(std::move(row));
   }
+  // The `house` row with the edge term: what it costs (docs/internals/LIKELIHOOD.md, "Edges").
+  RowPlan edges;
+  edges.sweep = "assets";
+  edges.name = "house/edges";
+  edges.edges = true;
+  edges.batch = 16;
+  edges.scene_key = "asset/house";
+  edges.prepare = asset("house", 6);
+  plan.push_back(std::move(edges));
   return plan;
 }
 
@@ -266,6 +276,7 @@ void StartRow(LiveRow& live, const BenchScene& prepared, vk::Device& device) {
 
   std::vector<SceneOverride> overrides = prepared.overrides;
   overrides.push_back({"likelihood.kind", plan.kind});
+  overrides.push_back({"likelihood.edges", plan.edges ? "true" : "false"});
   live.scene = std::make_unique<Scene>(LoadScene(prepared.scene_file, overrides));
   live.pool = Proposals(*live.scene, live.scene->ValuesFromFile(prepared.at_file), std::max(16, plan.batch));
   LikelihoodSetup setup;
