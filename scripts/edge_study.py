@@ -54,6 +54,8 @@ def main():
     ap.add_argument("--only", default=",".join(VARIANTS))
     ap.add_argument("--sigma", default="4")
     ap.add_argument("--seed", default="7", help="the photographs' noise seed")
+    ap.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
+                    help="a scene setting for fit and likelihood, e.g. likelihood.edges=true (repeatable)")
     a = ap.parse_args()
     rows = []
     for name in a.only.split(","):
@@ -68,7 +70,7 @@ def main():
         run([a.vkrecon, "synth", os.path.join(ASSET, synth), "--at", os.path.join(out, "at_synth.json"),
              "--scale", "0.25", "--noise", "8", "--seed", a.seed, "--set", "cameras=" + os.path.join(ASSET, cameras), "-o", out])
         common = ["--set", "cameras=" + os.path.join(out, "cameras.json"), "--set", "images=" + out,
-                  "--set", "likelihood.sigma=" + a.sigma]
+                  "--set", "likelihood.sigma=" + a.sigma] + [x for kv in a.set for x in ("--set", kv)]
         scene = os.path.join(ASSET, "scene.json")
         truth = json.load(open(truth_path))
         # From the truth: the mode nearest it, not wherever a local method ends from afar.
@@ -80,7 +82,7 @@ def main():
         def score(at):
             table = run([a.vkrecon, "likelihood", scene, "--at", at] + common)
             return {k: float(v) for k, v in (l.split() for l in table.splitlines()) if k in
-                    ("total", "log_likelihood", "log_occlusion_prior", "seen_once")}
+                    ("total", "log_likelihood", "log_occlusion_prior", "log_edges", "seen_once")}
 
         at_truth, at_map = score(truth_path), score(os.path.join(out, "fit", "at_map.json"))
         peaks = {}
@@ -107,17 +109,17 @@ def main():
 
     print()
     print("| variant | switched off | d (MAP, %) | rh (MAP, %) | w (MAP, %) | pitch ° (truth → MAP) | e MAP | "
-          "gain of the MAP over the truth (nats): total = photo-consistency + occlusion prior | "
+          "gain of the MAP over the truth (nats): total = photo-consistency (+ edges) + occlusion prior | "
           "one-view texels, truth → MAP | 1-D sweep peaks d / rh / w | ridge back along the front slope: "
           "best s, gain (of it the occlusion prior's) |")
     print("|---|---|---|---|---|---|---|---|---|---|---|")
     for name, what, truth, best, at_truth, at_map, peaks in rows:
         cell = lambda p: "%.3f (%+.1f %%)" % (best[p], 100 * (best[p] / truth[p] - 1))
-        gain = lambda k: at_map[k] - at_truth[k]
+        gain = lambda k: at_map.get(k, 0.0) - at_truth.get(k, 0.0)
         print("| %s | %s | %s | %s | %s | %.1f → %.1f | %.3f | %+.0f = %+.0f %+.0f | %d → %d | %.2f / %.2f / %.2f "
               "| %+.3f, %+.0f (%+.0f) |" % (
             name, what, cell("d"), cell("rh"), cell("w"), pitch(truth), pitch(best), best["e"], gain("total"),
-            gain("log_likelihood"), gain("log_occlusion_prior"), at_truth["seen_once"], at_map["seen_once"],
+            gain("log_likelihood") + gain("log_edges"), gain("log_occlusion_prior"), at_truth["seen_once"], at_map["seen_once"],
             peaks["d"], peaks["rh"], peaks["w"], peaks["ridge"][0], peaks["ridge"][1], peaks["ridge"][2]))
 
 

@@ -5,7 +5,8 @@
 // or the border of an open mesh, is sampled at kSamples points; each point the depth pass
 // shows unoccluded is scored by the colour difference across the projected edge, half a pixel
 // of the level to either side. A workgroup (one subgroup) writes Σ w·log-ratio and Σ w, with w
-// the sample's share of the edge's projected length in level pixels.
+// the sample's share of the edge's projected length in level pixels. A dump also keeps each
+// edge's sums (the sandwich's blocks of the edge term, NoiseCalibration.cpp).
 #extension GL_KHR_shader_subgroup_arithmetic : require
 
 layout(local_size_x_id = 0, local_size_y = 1) in;
@@ -23,13 +24,16 @@ layout(std430, set = 0, binding = 2) writeonly buffer Partials { vec2 partials[]
 layout(set = 0, binding = 3) uniform sampler2D reference;  // mip chain = image pyramid
 layout(set = 0, binding = 4) uniform sampler2D depth_map;  // nearest, reversed depth
 layout(set = 0, binding = 5) uniform sampler2D validity;   // the reference's mips: 1 = comparable
+layout(std430, set = 0, binding = 6) writeonly buffer PerEdge { vec2 per_edge[]; };  // [camera][edge], dumps only
 
 layout(push_constant) uniform Push {
   mat4 clip_from_world;  // full-resolution K: NDC does not depend on the level
   vec4 centre;           // camera centre (xyz), near plane (w)
   vec4 image;            // the level's size in pixels (xy), level (z), one level pixel in units of depth (w)
   vec4 statistic;        // 1/(2v) (x), log(1 − ε) − 1.5 log(2πv) (y), ε (z), η (w); EdgeEvidence.h
-  uint node_offset, edge_count, pad0, partial_offset;
+  uint node_offset, edge_count;
+  uint dump_camera;  // 1 + the camera whose per-edge sums a dump keeps; 0: none
+  uint partial_offset;
 } pc;
 
 // A crease is an edge whose faces' normals differ by more than 30°.
@@ -110,6 +114,7 @@ vec2 ScoreEdge(uint index) {
 void main() {
   const uint index = gl_GlobalInvocationID.x;
   const vec2 mine = index < pc.edge_count ? ScoreEdge(index) : vec2(0.0);
+  if (pc.dump_camera != 0u && index < pc.edge_count) per_edge[(pc.dump_camera - 1u) * pc.edge_count + index] = mine;
   const vec2 total = subgroupAdd(mine);
   if (subgroupElect()) partials[pc.partial_offset + gl_WorkGroupID.x] = total;
 }

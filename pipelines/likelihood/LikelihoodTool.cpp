@@ -93,6 +93,7 @@ class SurfaceAdapter final : public Adapter<SurfaceLikelihood, SurfaceLikelihood
     dump.images.push_back({"composite", DumpImage::Kind::Colour, true, std::move(surface.composite)});
     dump.images.push_back({"deviation", DumpImage::Kind::Deviation, true, std::move(surface.deviation)});
     dump.images.push_back({"noise", DumpImage::Kind::Data, false, std::move(surface.noise)});
+    if (!surface.edges.Empty()) dump.images.push_back({"edges", DumpImage::Kind::Data, false, std::move(surface.edges)});
     return dump;
   }
 };

@@ -85,12 +85,22 @@ NoiseCalibration NoiseCalibrationFromJson(const nlohmann::json& j) {
 }
 
 std::optional<BlockSandwich> SandwichOverBlocks(const std::vector<std::vector<double>>& gradient, int width,
-                                               const std::vector<double>& inverse_h, int requested) {
+                                               const std::vector<double>& inverse_h, int requested,
+                                               const std::vector<std::vector<double>>& summed) {
   const int d = int(gradient.size());
   if (d == 0 || width <= 0 || requested < 0 || inverse_h.size() != size_t(d) * d) return std::nullopt;
   const size_t texels = gradient[0].size();
   for (const std::vector<double>& g : gradient)
     if (g.size() != texels) return std::nullopt;
+  Eigen::MatrixXd j_summed = Eigen::MatrixXd::Zero(d, d);
+  int summed_blocks = 0;
+  for (const std::vector<double>& block : summed) {
+    if (block.size() != size_t(d)) return std::nullopt;
+    const Eigen::Map<const Eigen::VectorXd> g(block.data(), d);
+    if (g.squaredNorm() == 0.0) continue;
+    j_summed += g * g.transpose();
+    ++summed_blocks;
+  }
   const int height = int(texels / size_t(width));
   const Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> h_inverse(
       inverse_h.data(), d, d);
@@ -98,8 +108,8 @@ std::optional<BlockSandwich> SandwichOverBlocks(const std::vector<std::vector<do
   if (requested != kSandwichBlocksAuto) sides = {requested};
   std::optional<BlockSandwich> chosen;
   for (const int side : sides) {
-    Eigen::MatrixXd j = Eigen::MatrixXd::Zero(d, d);
-    int blocks = 0;
+    Eigen::MatrixXd j = j_summed;
+    int blocks = summed_blocks;
     for (int by = 0; by < height; by += side)
       for (int bx = 0; bx < width; bx += side) {
         Eigen::VectorXd g = Eigen::VectorXd::Zero(d);
@@ -150,6 +160,7 @@ void SandwichFactor(Likelihood& likelihood, const std::vector<double>& psi, cons
   const int d = int(psi.size());
   const bool correction = likelihood.model().chi2_correction;
   std::vector<std::vector<double>> gradient(static_cast<size_t>(d));  // per parameter, per texel
+  std::vector<std::vector<double>> edge_blocks;  // per camera and model edge, per parameter
   int width = 0;
   for (int i = 0; i < d; ++i) {
     const double h = std::sqrt(std::max(inverse_h(i, i), 0.0));
@@ -157,16 +168,28 @@ void SandwichFactor(Likelihood& likelihood, const std::vector<double>& psi, cons
     std::vector<double> plus = psi, minus = psi;
     plus[size_t(i)] += h;
     minus[size_t(i)] -= h;
-    const std::vector<double> up = TexelLogLikelihood(likelihood.EvaluateAndDump(plus, nullptr), correction, &width);
-    const std::vector<double> down = TexelLogLikelihood(likelihood.EvaluateAndDump(minus, nullptr), correction, &width);
+    const LikelihoodDump dump_up = likelihood.EvaluateAndDump(plus, nullptr);
+    const LikelihoodDump dump_down = likelihood.EvaluateAndDump(minus, nullptr);
+    const std::vector<double> up = TexelLogLikelihood(dump_up, correction, &width);
+    const std::vector<double> down = TexelLogLikelihood(dump_down, correction, &width);
     if (up.empty() || up.size() != down.size()) return;
     gradient[size_t(i)].resize(up.size());
     for (size_t t = 0; t < up.size(); ++t) gradient[size_t(i)][t] = (up[t] - down[t]) / (2.0 * h);
+    // The edge term's score, one block per camera and edge: its samples along an edge share
+    // whatever the model does not explain there.
+    const Image* edges_up = FindImage(dump_up, "edges");
+    const Image* edges_down = FindImage(dump_down, "edges");
+    if (edges_up && edges_down && edges_up->rgba.size() == edges_down->rgba.size()) {
+      const size_t count = edges_up->rgba.size() / 4;
+      edge_blocks.resize(count, std::vector<double>(size_t(d), 0.0));
+      for (size_t k = 0; k < count; ++k)
+        edge_blocks[k][size_t(i)] = (double(edges_up->rgba[4 * k]) - double(edges_down->rgba[4 * k])) / (2.0 * h);
+    }
   }
   std::vector<double> inverse(size_t(d) * d);
   for (int i = 0; i < d; ++i)
     for (int k = 0; k < d; ++k) inverse[size_t(i) * d + k] = inverse_h(i, k);
-  if (const std::optional<BlockSandwich> s = SandwichOverBlocks(gradient, width, inverse, sandwich_blocks)) {
+  if (const std::optional<BlockSandwich> s = SandwichOverBlocks(gradient, width, inverse, sandwich_blocks, edge_blocks)) {
     c->kappa = s->kappa;
     c->kappa_min = s->kappa_min;
     c->kappa_max = s->kappa_max;

@@ -92,10 +92,13 @@ struct BlockSandwich {
 // `inverse_h`: H⁻¹ (d × d row-major). The block sandwich over blocks of `side` texels; for
 // kSandwichBlocksAuto, at each of kSandwichBlockSides with at least 2d blocks (the
 // smallest side) or 4d (the others), and the largest κ of them. κ = 1 when the first side
-// tried leaves fewer than 2d blocks; nullopt when the sizes disagree.
+// tried leaves fewer than 2d blocks; nullopt when the sizes disagree. `summed`: blocks of
+// the score already summed (d values each; the edge term's per camera and edge), added to
+// J and to the count at every side.
 std::optional<BlockSandwich> SandwichOverBlocks(const std::vector<std::vector<double>>& gradient, int width,
                                                const std::vector<double>& inverse_h,
-                                               int side = kSandwichBlocksAuto);
+                                               int side = kSandwichBlocksAuto,
+                                               const std::vector<std::vector<double>>& summed = {});
 
 nlohmann::json ToJson(const NoiseCalibration& calibration);
 NoiseCalibration NoiseCalibrationFromJson(const nlohmann::json& json);  // throws std::invalid_argument

@@ -259,7 +259,7 @@ struct SurfaceLikelihood::Impl {
       for (size_t i = 0; i < cams.size(); ++i) {
         const Eigen::Vector2d size(cameras[i].width, cameras[i].height);
         edge_pass->record(cmd, views_at_level[i], size / std::exp2(level), EdgeStatisticOf(int(i)),
-                          ViewBinding(images, int(i), level), slot, int(i));
+                          ViewBinding(images, int(i), level), slot, int(i), dump);
       }
     Timestamp(cmd, ts + 2);
     interior_pass.record(cmd, slot, own.mask, LevelAtlas());
@@ -476,6 +476,7 @@ SurfaceDump SurfaceLikelihood::EvaluateAndDump(const std::vector<double>& psi, E
   dump.deviation = crop(floats);
   m.transfer.ReadImage(m.composite_pass->noise(), 0, VK_IMAGE_LAYOUT_GENERAL, floats.data());
   dump.noise = crop(floats);
+  if (m.edge_pass) dump.edges = m.edge_pass->PerEdge();
   return dump;
 }
 

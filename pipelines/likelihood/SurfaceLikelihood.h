@@ -71,6 +71,9 @@ struct SurfaceDump {
   Image composite;                   // rgb = consensus colour (corrected), a = number of views
   Image deviation;                   // r = χ_t, g = d_t, b = interior (1), a = 1 on surface
   Image noise;                       // r = texture share of the noise, g = outlier views, b = views, a = surface
+  // With the edge term: per camera (row) and model edge (column), r = Σ w·log-ratio and
+  // g = Σ w, the scored length in level pixels (EdgePass.h); empty without it.
+  Image edges;
 };
 
 // `options` with slot_images Auto resolved for `device` (SlotImages).

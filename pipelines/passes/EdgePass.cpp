@@ -26,7 +26,7 @@ struct EdgePush {
   float centre[4];
   float image[4];
   float statistic[4];
-  uint32_t node_offset, edge_count, pad0, partial_offset;
+  uint32_t node_offset, edge_count, dump_camera, partial_offset;
 };
 static_assert(sizeof(EdgePush) == 128);
 
@@ -115,13 +115,16 @@ EdgePass::EdgePass(vk::Device& device, const GpuScene& scene, const std::vector<
   }
   partials_ = vk::Buffer(device, VkDeviceSize(max_batch) * uint32_t(cameras) * groups_ * 2 * sizeof(float),
                          VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, vk::MemoryUse::Readback);
+  per_edge_ = vk::Buffer(device, VkDeviceSize(std::max(1u, edge_count_)) * uint32_t(cameras) * 2 * sizeof(float),
+                         VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, vk::MemoryUse::Readback);
   auto binding = [](uint32_t b, VkDescriptorType type) {
     return VkDescriptorSetLayoutBinding{b, type, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr};
   };
   const std::vector<VkDescriptorSetLayoutBinding> layout_bindings = {
       binding(0, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER),         binding(1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER),
       binding(2, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER),         binding(3, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER),
-      binding(4, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER), binding(5, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER)};
+      binding(4, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER), binding(5, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER),
+      binding(6, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER)};
   set_layout_ = CreateDescriptorSetLayout(device, layout_bindings);
   layout_ = CreatePipelineLayout(device, set_layout_, sizeof(EdgePush), VK_SHADER_STAGE_COMPUTE_BIT);
   DescriptorSets sets = AllocateDescriptorSets(device, set_layout_, layout_bindings, uint32_t(bindings));
@@ -131,6 +134,7 @@ EdgePass::EdgePass(vk::Device& device, const GpuScene& scene, const std::vector<
     WriteStorageBuffer(device, set, 0, scene.node_matrices());
     WriteStorageBuffer(device, set, 1, edges_);
     WriteStorageBuffer(device, set, 2, partials_);
+    WriteStorageBuffer(device, set, 6, per_edge_);
   }
   checks_validity_.assign(size_t(bindings), false);
   const vk::ShaderModule shader = vk::CreateShaderModule(device, kEdgesComp, sizeof(kEdgesComp));
@@ -152,7 +156,7 @@ void EdgePass::BindImages(int index, VkImageView reference, VkImageView depth, V
 }
 
 void EdgePass::record(VkCommandBuffer cmd, const ViewCamera& camera_view, const Eigen::Vector2d& size,
-                      const EdgeStatistic& statistic, int binding, int slot, int camera) const {
+                      const EdgeStatistic& statistic, int binding, int slot, int camera, bool dump) const {
   if (edge_count_ == 0) return;
   EdgePush push{};
   const Eigen::Matrix4f clip = camera_view.clip_from_world.cast<float>();
@@ -170,6 +174,7 @@ void EdgePass::record(VkCommandBuffer cmd, const ViewCamera& camera_view, const 
   push.statistic[3] = float(statistic.hidden);
   push.node_offset = scene_->node_offset(slot);
   push.edge_count = edge_count_;
+  push.dump_camera = dump ? uint32_t(camera) + 1 : 0;
   push.partial_offset = (uint32_t(slot) * uint32_t(cameras_) + uint32_t(camera)) * groups_;
   const VkPipeline pipeline = checks_validity_.at(size_t(binding)) ? validity_pipeline_ : pipeline_;
   vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline);
@@ -189,6 +194,19 @@ Eigen::Vector2d EdgePass::Result(int slot, int camera) const {
   Eigen::Vector2d sum = Eigen::Vector2d::Zero();
   for (uint32_t g = 0; g < groups_; ++g) sum += Eigen::Vector2d(p[2 * g], p[2 * g + 1]);
   return sum;
+}
+
+Image EdgePass::PerEdge() const {
+  Image out(int(std::max(1u, edge_count_)), cameras_);
+  if (edge_count_ == 0) return out;
+  const float* p = per_edge_.data<float>();
+  for (int c = 0; c < cameras_; ++c)
+    for (uint32_t e = 0; e < edge_count_; ++e) {
+      const size_t k = size_t(c) * edge_count_ + e;
+      out.At(int(e), c)[0] = p[2 * k];
+      out.At(int(e), c)[1] = p[2 * k + 1];
+    }
+  return out;
 }
 
 }  // namespace vkr

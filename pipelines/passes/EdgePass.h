@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "engine/geometry/SceneGeometry.h"
+#include "engine/image/Image.h"
 #include "engine/vk/Resources.h"
 #include "pipelines/passes/GpuScene.h"
 #include "pipelines/passes/ViewTexturePass.h"
@@ -51,14 +52,17 @@ class EdgePass {
 
   // Scores camera `camera`'s edges for hypothesis slot `slot` at `camera_view.level`; `size`:
   // the level's image size in pixels (the full size / 2^level). The depth map must be in
-  // DEPTH_READ_ONLY_OPTIMAL and visible to the compute stage.
+  // DEPTH_READ_ONLY_OPTIMAL and visible to the compute stage. `dump`: keep each edge's sums
+  // too (one hypothesis per submission).
   void record(VkCommandBuffer cmd, const ViewCamera& camera_view, const Eigen::Vector2d& size,
-              const EdgeStatistic& statistic, int binding, int slot, int camera) const;
+              const EdgeStatistic& statistic, int binding, int slot, int camera, bool dump = false) const;
   // Makes the sums visible to the host (once per submission, after every record).
   void record_finish(VkCommandBuffer cmd) const;
 
   // After the submission: Σ w·log-ratio (x) and Σ w, the scored length in level pixels (y).
   Eigen::Vector2d Result(int slot, int camera) const;
+  // After a dump: per camera (row) and edge (column), r = Σ w·log-ratio and g = Σ w.
+  Image PerEdge() const;
   bool empty() const { return edge_count_ == 0; }
 
  private:
@@ -66,7 +70,7 @@ class EdgePass {
   const GpuScene* scene_;
   uint32_t edge_count_ = 0, groups_ = 0, lanes_ = 1;
   int cameras_ = 0;
-  vk::Buffer edges_, partials_;
+  vk::Buffer edges_, partials_, per_edge_;
   vk::Sampler trilinear_, nearest_;
   vk::DescriptorSetLayout set_layout_;
   vk::PipelineLayout layout_;

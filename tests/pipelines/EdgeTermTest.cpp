@@ -164,6 +164,33 @@ TEST_F(EdgeTerm, ItAddsToTheTotalAndChangesNothingElse) {
   }
 }
 
+TEST_F(EdgeTerm, ADumpKeepsEachEdgesShare) {
+  // The sandwich's blocks of the edge term (NoiseCalibration.cpp): per camera and edge, the
+  // sums whose total is the evaluation's.
+  const test::SynthBoxScene& box = Box();
+  SurfaceLikelihood likelihood(device(), box.scene, Options(true));
+  Evaluation e;
+  const SurfaceDump dump = likelihood.EvaluateAndDump(box.truth, &e);
+  ASSERT_EQ(dump.edges.height, int(box.scene.cameras.size()));
+  EXPECT_EQ(size_t(dump.edges.width), FindModelEdges(likelihood.geometry()).size());
+  double sum = 0.0, length = 0.0;
+  int scored = 0;
+  for (int c = 0; c < dump.edges.height; ++c)
+    for (int k = 0; k < dump.edges.width; ++k) {
+      sum += dump.edges.At(k, c)[0];
+      length += dump.edges.At(k, c)[1];
+      scored += dump.edges.At(k, c)[1] > 0.0f;
+    }
+  EXPECT_NEAR(sum, e.log_edges, 1e-3 * std::abs(e.log_edges));
+  EXPECT_NEAR(length, e.edge_length, 1e-3 * e.edge_length);
+  // Each camera sees some of the box's twelve edges and the ground's border, never all.
+  EXPECT_GT(scored, dump.edges.height * 4);
+  EXPECT_LT(scored, dump.edges.height * dump.edges.width);
+  // Without the term there is nothing to keep.
+  SurfaceLikelihood without(device(), box.scene, Options(false));
+  EXPECT_TRUE(without.EvaluateAndDump(box.truth).edges.Empty());
+}
+
 TEST_F(EdgeTerm, TheTruesBoxEdgesBeatShiftedOnes) {
   // Noise-free photographs of a textured box on textured ground: the box's outline and creases
   // lie on the photographs' edges at the truth and not a few pixels off it (at 150 px focal

@@ -89,6 +89,33 @@ TEST(Sandwich, TooFewBlocksLeaveKappaAtOne) {
   EXPECT_EQ(s->kappa, 1.0);
 }
 
+TEST(Sandwich, SummedBlocksAddToJAtEverySide) {
+  // Texel scores that are zero leave J to the summed blocks (the edge term's, one per camera
+  // and edge), here g = ±(2, −1), J = Σ g gᵀ = [[8, −4], [−4, 2]].
+  const std::vector<std::vector<double>> zero(kParameters, std::vector<double>(kSide * kSide, 0.0));
+  std::vector<std::vector<double>> summed;
+  for (int k = 0; k < 2; ++k) summed.push_back({k ? -2.0 : 2.0, k ? 1.0 : -1.0});
+  summed.push_back({0.0, 0.0});  // an edge no camera saw carries nothing and is no block
+  for (const int side : {8, kSandwichBlocksAuto}) {
+    const std::optional<BlockSandwich> s = SandwichOverBlocks(zero, kSide, ScaledIdentity(0.2), side, summed);
+    ASSERT_TRUE(s.has_value());
+    EXPECT_EQ(s->blocks, 2);
+    EXPECT_EQ(s->kappa, 1.0);  // fewer than 2d blocks: too few to measure J
+  }
+  // With texel blocks beside them, both count.
+  std::vector<std::vector<double>> ones(kParameters, std::vector<double>(16 * 16, 0.0));
+  for (int i = 0; i < kParameters; ++i) ones[i][0] = 1.0;  // one texel in one 8×8 block
+  for (int k = 0; k < 4; ++k) summed.push_back({1.0, 1.0});
+  const std::optional<BlockSandwich> s = SandwichOverBlocks(ones, 16, ScaledIdentity(1.0), 8, summed);
+  ASSERT_TRUE(s.has_value());
+  EXPECT_EQ(s->blocks, 1 + 6);
+  // J = [[8, −4], [−4, 2]] + 4·[[1,1],[1,1]] + [[1,1],[1,1]] = [[13, 1], [1, 7]]; κ = tr(J)/2.
+  EXPECT_DOUBLE_EQ(s->kappa, 10.0);
+  EXPECT_EQ(s->j, (std::vector<double>{13.0, 1.0, 1.0, 7.0}));
+  // A block of the wrong length is refused.
+  EXPECT_FALSE(SandwichOverBlocks(ones, 16, ScaledIdentity(1.0), 8, {{1.0}}).has_value());
+}
+
 TEST(Sandwich, MismatchedScoresAreRefused) {
   std::vector<std::vector<double>> gradient = {std::vector<double>(64, 1.0), std::vector<double>(32, 1.0)};
   EXPECT_FALSE(SandwichOverBlocks(gradient, 8, ScaledIdentity(1.0)).has_value());
