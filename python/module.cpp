@@ -329,8 +329,8 @@ PYBIND11_MODULE(_vkrecon, m) {
           "Fits the per-camera colour correction at `at` and scores with it from now on, as "
           "`vkrecon likelihood --at` does before it evaluates; None when the scene has none.")
       .def("evaluate", &Evaluate, py::arg("batch"),
-           "K x P parameter values -> dict of K-arrays: total (log likelihood + occlusion prior, "
-           "what `vkrecon likelihood` prints as total), log_likelihood, log_occlusion_prior, "
-           "sum_squares, dof, seen_multi, seen_once.");
+           "K x P parameter values -> dict of K-arrays: total (log likelihood + edge term + occlusion "
+           "prior, what `vkrecon likelihood` prints as total), log_likelihood, log_occlusion_prior, "
+           "log_edges (0 without likelihood.edges), sum_squares, dof, seen_multi, seen_once.");
   BindReconstruct(m);
 }

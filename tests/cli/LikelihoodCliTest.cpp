@@ -84,7 +84,7 @@ TEST_F(LikelihoodCli, SweepWritesTheCsvContractAndPeaksAtTheTruth) {
   EXPECT_EQ(lines[0].rfind("value,loglik,", 0), 0u) << lines[0];
   EXPECT_EQ(lines[0],
             "value,loglik,log_likelihood,log_occlusion_prior,sum_squares,dof,seen_multi,seen_once,"
-            "seen_none,interior");
+            "seen_none,interior,log_edges,edge_length");
   const size_t columns = Split(lines[0], ',').size();
   double best_value = 0.0, best = -INFINITY;
   for (size_t k = 1; k < lines.size(); ++k) {
