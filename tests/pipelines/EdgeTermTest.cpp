@@ -191,6 +191,33 @@ TEST_F(EdgeTerm, ADumpKeepsEachEdgesShare) {
   EXPECT_TRUE(without.EvaluateAndDump(box.truth).edges.Empty());
 }
 
+TEST_F(EdgeTerm, MaskedPixelsAreNoEvidence) {
+  // A sample whose probes touch a masked pixel (the camera's mask, the lens border, clutter)
+  // is dropped, never scored against the black of a masked photograph.
+  const test::SynthBoxScene& box = Box();
+  SurfaceLikelihood likelihood(device(), box.scene, Options(true));
+  const Evaluation all = likelihood.Evaluate({box.truth})[0];
+  std::vector<Image> none, left;
+  for (const CameraModel& c : box.scene.cameras) {
+    none.emplace_back(c.width, c.height, 0.0f);
+    Image half(c.width, c.height, 1.0f);
+    for (int y = 0; y < c.height; ++y)
+      for (int x = 0; x < c.width / 2; ++x)
+        for (int k = 0; k < 4; ++k) half.At(x, y)[k] = 0.0f;
+    left.push_back(std::move(half));
+  }
+  likelihood.SetClutterMasks(none);
+  const Evaluation masked = likelihood.Evaluate({box.truth})[0];
+  EXPECT_EQ(masked.edge_length, 0.0);
+  EXPECT_EQ(masked.log_edges, 0.0);
+  likelihood.SetClutterMasks(left);
+  const Evaluation half = likelihood.Evaluate({box.truth})[0];
+  EXPECT_GT(half.edge_length, 0.2 * all.edge_length);
+  EXPECT_LT(half.edge_length, 0.8 * all.edge_length);
+  likelihood.ClearClutterMasks();
+  EXPECT_EQ(likelihood.Evaluate({box.truth})[0].log_edges, all.log_edges);
+}
+
 TEST_F(EdgeTerm, TheTruesBoxEdgesBeatShiftedOnes) {
   // Noise-free photographs of a textured box on textured ground: the box's outline and creases
   // lie on the photographs' edges at the truth and not a few pixels off it (at 150 px focal
