@@ -169,6 +169,8 @@ void ReadLikelihood(const Reader& r, const Json& j, LikelihoodSettings& s) {
     if (s.partner_ranking != "distance" && s.partner_ranking != "direction")
       r.Fail("likelihood.partner_ranking", "unknown ranking '" + s.partner_ranking + "' (distance, direction)");
   }
+  if (s.edges && s.kind == "image")
+    r.Fail("likelihood.edges", "the image-space likelihood has no edge term (the surface likelihood has)");
 }
 
 void ReadSampler(const Reader& r, const Json& j, SamplerSettings& s) {

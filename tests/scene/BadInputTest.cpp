@@ -287,6 +287,8 @@ TEST(BadInput, VersionAndSettings) {
   EXPECT_TRUE(LoadFails(dir, scene, {"likelihood.position_sd", "[0, 10]"}));
   scene["likelihood"] = Json{{"edges", "on"}};
   EXPECT_TRUE(LoadFails(dir, scene, {"likelihood.edges", "true or false"}));
+  scene["likelihood"] = Json{{"edges", true}, {"kind", "image"}};
+  EXPECT_TRUE(LoadFails(dir, scene, {"likelihood.edges", "image-space likelihood has no edge term"}));
   scene.erase("likelihood");
   scene["synth"] = Json{{"sun", {0, 95}}};
   EXPECT_TRUE(LoadFails(dir, scene, {"synth.sun[1]", "must be in (0, 90]"}));
