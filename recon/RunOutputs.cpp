@@ -157,6 +157,7 @@ nlohmann::json SettingsJson(const RunContext& run, const opt::Sampler& sampler) 
                       {"charts", scene.likelihood.charts},
                       {"photometric", scene.likelihood.photometric},
                       {"clutter", scene.likelihood.clutter},
+                      {"edges", scene.likelihood.edges},
                       {"sandwich_blocks", scene.likelihood.sandwich_blocks == 0
                                               ? nlohmann::json("auto")
                                               : nlohmann::json(scene.likelihood.sandwich_blocks)},

@@ -85,6 +85,7 @@ TEST(RunCli, KilledRunResumesToTheSameResult) {
   EXPECT_TRUE(a["calibration"]["sigma_estimated"].get<bool>());
   EXPECT_GT(a["calibration"]["kappa"].get<double>(), 0.0);
   EXPECT_EQ(a["settings"]["likelihood"]["sigma"], "auto");
+  EXPECT_EQ(a["settings"]["likelihood"]["edges"], false);
   EXPECT_EQ(test::ReadText(dir / "straight/chain.csv"), test::ReadText(out / "chain.csv"));
   for (const char* f : {"composite.exr", "composite.png", "model.glb", "chain.csv"}) EXPECT_TRUE(fs::exists(out / f)) << f;
   // One CmdStan CSV per posterior chain (its format is tested in optimiser/Sampler.StanCsv…),
