@@ -205,16 +205,36 @@ opt::MapSearchSummary ReadStartSearch(const RunContext& run) {
   return start;
 }
 
+// The sampler's state with the scene's likelihood settings beside it, atomically.
+void WriteCheckpoint(const RunContext& run, nlohmann::json state) {
+  state["likelihood_settings"] = LikelihoodSettingsJson(run.scene);
+  WriteAtomically(run.checkpoint_file, state.dump());
+}
+
+// InputError naming the first likelihood setting a checkpoint's run had otherwise: chains
+// resumed under another likelihood would sample two posteriors as one.
+void RequireSameLikelihood(const RunContext& run, const nlohmann::json& state) {
+  if (!state.is_object() || !state.contains("likelihood_settings")) return;  // written before they were kept
+  const nlohmann::json now = LikelihoodSettingsJson(run.scene);
+  for (const auto& [key, then] : state["likelihood_settings"].items())
+    if (now.contains(key) && now[key] != then)
+      throw InputError(run.checkpoint_file.string(), "likelihood." + key,
+                       "the checkpoint's run had " + then.dump() + ", this one has " + now[key].dump() +
+                           ": resume with the same setting, or start again without --resume");
+}
+
 // The sampler as the checkpoint left it; InputError when it is not this scene's.
 std::unique_ptr<opt::Sampler> ResumeSampler(const RunContext& run, const std::string& checkpoint_text,
                                             opt::Target& target) {
   std::unique_ptr<opt::Sampler> sampler;
+  nlohmann::json state;
   try {
-    const nlohmann::json state = nlohmann::json::parse(checkpoint_text);
+    state = nlohmann::json::parse(checkpoint_text);
     sampler = std::make_unique<opt::Sampler>(state, target);
   } catch (const std::exception& e) {
     throw InputError(run.checkpoint_file.string(), "", std::string("cannot resume: ") + e.what());
   }
+  RequireSameLikelihood(run, state);
   const auto& names = sampler->parameters();
   for (size_t i = 0; i < names.size() || i < run.scene.parameters.size(); ++i)
     if (i >= names.size() || i >= run.scene.parameters.size() || names[i].name != run.scene.parameters[i].name)
@@ -238,7 +258,7 @@ std::unique_ptr<opt::Sampler> StartSampler(const RunContext& run, opt::SamplerOp
   auto sampler = std::make_unique<opt::Sampler>(sampler_options, ParameterSpecs(run.scene), target);
   // From here on a resume continues this run rather than starting it again (the initial
   // temperature above is drawn from the photographs: not worth redoing).
-  if (run.root) WriteAtomically(run.checkpoint_file, sampler->Checkpoint().dump());
+  if (run.root) WriteCheckpoint(run, sampler->Checkpoint());
   return sampler;
 }
 
@@ -278,7 +298,7 @@ opt::SamplerSummary Sample(const RunContext& run, opt::Sampler& sampler, Distrib
     return r;
   };
   callbacks.on_checkpoint = [&](const nlohmann::json& state) {
-    WriteAtomically(run.checkpoint_file, state.dump());
+    WriteCheckpoint(run, state);
     last_checkpoint = Clock::now();
   };
   opt::SamplerSummary summary;
@@ -412,7 +432,7 @@ void Reconstruct(const ReconstructOptions& options, vk::Device& device, Reconstr
     throw std::runtime_error("sampler failed: " + summary.sampler.message);
   // Rank 0 writes everything; the MPI job ends when it has. Stopped, the checkpoint is the output.
   if (run.root && run.ranks.distributed()) WriteScaleOut(run, exchange);
-  if (run.root) WriteAtomically(run.checkpoint_file, sampler->Checkpoint().dump());
+  if (run.root) WriteCheckpoint(run, sampler->Checkpoint());
   if (run.root && summary.completed()) {
     likelihood.reset();  // the outputs come from a surface likelihood at full resolution
     WriteOutputs(run, *sampler, chains_calibration, &summary);

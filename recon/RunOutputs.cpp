@@ -149,24 +149,7 @@ nlohmann::json SettingsJson(const RunContext& run, const opt::Sampler& sampler) 
       {"scene", scene.file.string()},
       {"overrides", nlohmann::json::array()},
       {"device", run.device.name()},
-      {"likelihood", {{"kind", scene.likelihood.kind},
-                      {"sigma", scene.likelihood.sigma_auto ? nlohmann::json("auto")
-                                                            : nlohmann::json(scene.likelihood.sigma)},
-                      {"weights", scene.likelihood.weights}, {"atlas", scene.likelihood.atlas},
-                      {"levels", scene.likelihood.levels},
-                      {"charts", scene.likelihood.charts},
-                      {"photometric", scene.likelihood.photometric},
-                      {"clutter", scene.likelihood.clutter},
-                      {"edges", scene.likelihood.edges},
-                      {"sandwich_blocks", scene.likelihood.sandwich_blocks == 0
-                                              ? nlohmann::json("auto")
-                                              : nlohmann::json(scene.likelihood.sandwich_blocks)},
-                      {"sandwich_adjustment", scene.likelihood.sandwich_adjustment},
-                      {"kappa", scene.likelihood.kappa > 0.0 ? nlohmann::json(scene.likelihood.kappa)
-                                                             : nlohmann::json(scene.likelihood.kappa_estimate)},
-                      {"position_sd", scene.likelihood.position_sd},
-                      {"partners", scene.likelihood.partners},
-                      {"partner_ranking", scene.likelihood.partner_ranking}}},
+      {"likelihood", LikelihoodSettingsJson(scene)},
       {"sampler", opt::ToJson(sampler.options())},
       {"time_limit", run.time_limit}};
   for (const SceneOverride& o : scene.overrides) settings["overrides"].push_back(o.path + "=" + o.value);
@@ -174,6 +157,25 @@ nlohmann::json SettingsJson(const RunContext& run, const opt::Sampler& sampler) 
 }
 
 }  // namespace
+
+nlohmann::json LikelihoodSettingsJson(const Scene& scene) {
+  const LikelihoodSettings& l = scene.likelihood;
+  return {{"kind", l.kind},
+          {"sigma", l.sigma_auto ? nlohmann::json("auto") : nlohmann::json(l.sigma)},
+          {"weights", l.weights},
+          {"atlas", l.atlas},
+          {"levels", l.levels},
+          {"charts", l.charts},
+          {"photometric", l.photometric},
+          {"clutter", l.clutter},
+          {"edges", l.edges},
+          {"sandwich_blocks", l.sandwich_blocks == 0 ? nlohmann::json("auto") : nlohmann::json(l.sandwich_blocks)},
+          {"sandwich_adjustment", l.sandwich_adjustment},
+          {"kappa", l.kappa > 0.0 ? nlohmann::json(l.kappa) : nlohmann::json(l.kappa_estimate)},
+          {"position_sd", l.position_sd},
+          {"partners", l.partners},
+          {"partner_ranking", l.partner_ranking}};
+}
 
 void FinishAtMap(const RunContext& run, const opt::Sampler& sampler, const nlohmann::json& chains_calibration,
                  ReconstructSummary* summary, SceneGeometry* geometry) {

@@ -57,4 +57,8 @@ std::string Duration(double seconds);
 void FinishAtMap(const RunContext& run, const opt::Sampler& sampler, const nlohmann::json& chains_calibration,
                  ReconstructSummary* summary, SceneGeometry* geometry);
 
+// The scene's likelihood settings as map.json's `settings.likelihood` states them; a
+// checkpoint keeps them too, so that a resume under other settings is refused.
+nlohmann::json LikelihoodSettingsJson(const Scene& scene);
+
 }  // namespace vkr::recon

@@ -182,12 +182,19 @@ TEST(RunCli, KilledAnywhereAndResumedGivesTheUninterruptedResult) {
   EXPECT_GE(interrupted, 15) << "only " << interrupted << " kills interrupted the run";
 }
 
-TEST(RunCli, ATruncatedOrCorruptCheckpointIsBadInputNotACrashOrARestart) {
+TEST(RunCli, ATruncatedOrCorruptCheckpointOrOtherSettingsAreBadInputNotACrashOrARestart) {
   test::TempDir dir;
   ASSERT_TRUE(SynthBoxImages(dir.path(), ""));
   const fs::path out = dir / "out";
   ASSERT_EQ(RunCommand(SmallRun(dir, 20) + " -o " + Q(out)).exit_status, 0);
   const std::string checkpoint = test::ReadText(out / "checkpoint.json");
+  // Resumed under another likelihood, the chains would sample two posteriors as one.
+  const auto other = RunCommand(SmallRun(dir, 20) + " --set likelihood.edges=true -o " + Q(out) + " --resume");
+  EXPECT_EQ(other.exit_status, 2) << other.err;
+  EXPECT_NE(other.err.find("checkpoint.json: likelihood.edges: the checkpoint's run had false, this one has true"),
+            std::string::npos) << other.err;
+  EXPECT_EQ(std::count(other.err.begin(), other.err.end(), '\n'), 1) << other.err;
+  EXPECT_EQ(test::ReadText(out / "checkpoint.json"), checkpoint) << "a refused resume leaves the checkpoint alone";
   const std::vector<std::pair<std::string, std::string>> cases = {
       {"truncated", checkpoint.substr(0, checkpoint.size() / 2)},
       {"empty", ""},
