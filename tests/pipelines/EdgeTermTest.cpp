@@ -218,7 +218,7 @@ TEST_F(EdgeTerm, MaskedPixelsAreNoEvidence) {
   EXPECT_EQ(likelihood.Evaluate({box.truth})[0].log_edges, all.log_edges);
 }
 
-TEST_F(EdgeTerm, TheTruesBoxEdgesBeatShiftedOnes) {
+TEST_F(EdgeTerm, TheTrueBoxEdgesBeatShiftedOnes) {
   // Noise-free photographs of a textured box on textured ground: the box's outline and creases
   // lie on the photographs' edges at the truth and not a few pixels off it (at 150 px focal
   // length and 1.9 m, 4 cm is about 3 pixels).
