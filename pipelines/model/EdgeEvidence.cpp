@@ -37,14 +37,18 @@ PairContrasts::PairContrasts(const Image& image, const Image& validity, size_t k
     for (int c = 0; c < 3; ++c) sum += (a[c] - b[c]) * (a[c] - b[c]);
     return sum;
   };
+  // A photograph of many megapixels holds tens of millions of pairs: every stride-th pixel's
+  // pairs still leave eight times `keep`, enough for the quantiles, and sort in milliseconds.
+  const size_t pixels = size_t(image.width) * size_t(image.height);
+  const size_t stride = std::max<size_t>(1, 2 * pixels / (8 * std::max<size_t>(keep, 1)));
   std::vector<float> all;
-  all.reserve(size_t(image.width) * size_t(image.height) * 2);
-  for (int y = 0; y < image.height; ++y)
-    for (int x = 0; x < image.width; ++x) {
-      if (!valid(x, y)) continue;
-      if (x + 1 < image.width && valid(x + 1, y)) all.push_back(contrast(x, y, x + 1, y));
-      if (y + 1 < image.height && valid(x, y + 1)) all.push_back(contrast(x, y, x, y + 1));
-    }
+  all.reserve(2 * pixels / stride + 2);
+  for (size_t k = 0; k < pixels; k += stride) {
+    const int x = int(k % size_t(image.width)), y = int(k / size_t(image.width));
+    if (!valid(x, y)) continue;
+    if (x + 1 < image.width && valid(x + 1, y)) all.push_back(contrast(x, y, x + 1, y));
+    if (y + 1 < image.height && valid(x, y + 1)) all.push_back(contrast(x, y, x, y + 1));
+  }
   std::sort(all.begin(), all.end());
   if (all.size() <= keep) {
     sorted_ = std::move(all);

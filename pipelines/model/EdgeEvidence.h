@@ -39,8 +39,8 @@ double EdgeLogRatio(const Eigen::Vector3d& delta, double variance, double clutte
 double ContrastThreshold(double variance);
 
 // The squared differences of neighbouring pixels (right and below; both inside `validity`
-// where it is not empty) of one image, sorted, subsampled to at most `keep`: enough to tell
-// the share of pairs beyond any threshold.
+// where it is not empty) of one image, or of every n-th pixel of a large one, sorted,
+// subsampled to at most `keep`: enough to tell the share of pairs beyond any threshold.
 class PairContrasts {
  public:
   PairContrasts() = default;
