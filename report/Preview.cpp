@@ -8,6 +8,7 @@
 
 #include "engine/common/InputError.h"
 #include "engine/geometry/SceneGeometry.h"
+#include "engine/scene/Photographs.h"
 #include "pipelines/rendering/WireframeOverlay.h"
 #include "report/PreviewData.h"
 #include "report/ReportAssets.h"
@@ -62,7 +63,7 @@ std::vector<fs::path> WriteOverlays(const fs::path& dir, const Scene& scene, con
   // The cameras at Ψ throughout: a camera moved by a pose is drawn where it starts.
   for (const Camera& camera : scene.Cameras(psi)) {
     const fs::path file = dir / (camera.name + ".png");
-    const Image faint_drawn = DrawWireframe(LoadImage(camera.image), camera, faint, kExtremeLines);
+    const Image faint_drawn = DrawWireframe(LoadPhotograph(camera.image, camera.shrink), camera, faint, kExtremeLines);
     WritePng(file, DrawWireframe(faint_drawn, camera, bright));
     written.push_back(file);
   }

@@ -94,7 +94,7 @@ Json CameraJson(const CameraModel& model, const Camera& camera, const std::vecto
   Json lens = nullptr;
   if (!model.distortion.IsNone()) lens = model.distortion.FullOpenCV();
   return {{"name", model.name}, {"width", model.width}, {"height", model.height}, {"K", std::move(K)},
-          {"R", std::move(R)}, {"t", {model.t.x(), model.t.y(), model.t.z()}}, {"pose", ChainJson(model.pose)},
+          {"shrink", model.shrink}, {"R", std::move(R)}, {"t", {model.t.x(), model.t.y(), model.t.z()}}, {"pose", ChainJson(model.pose)},
           {"lens", std::move(lens)}, {"check", CheckPoints(camera, wires, world_from_node)}};
 }
 

@@ -10,6 +10,7 @@
 
 #include "engine/common/InputError.h"
 #include "engine/image/Image.h"
+#include "engine/image/Pyramid.h"
 
 namespace fs = std::filesystem;
 
@@ -18,22 +19,6 @@ namespace {
 
 void Append(void* context, void* data, int size) {
   static_cast<std::string*>(context)->append(static_cast<const char*>(data), size_t(size));
-}
-
-// Box filter by an integer factor, so each output pixel is the mean of the input's.
-Image Shrink(const Image& image, int factor) {
-  if (factor <= 1) return image;
-  Image out(std::max(1, image.width / factor), std::max(1, image.height / factor), 0.0f);
-  for (int y = 0; y < out.height; ++y)
-    for (int x = 0; x < out.width; ++x) {
-      float* o = out.At(x, y);
-      for (int dy = 0; dy < factor; ++dy)
-        for (int dx = 0; dx < factor; ++dx) {
-          const float* p = image.At(std::min(x * factor + dx, image.width - 1), std::min(y * factor + dy, image.height - 1));
-          for (int c = 0; c < 4; ++c) o[c] += p[c] / float(factor * factor);
-        }
-    }
-  return out;
 }
 
 }  // namespace
@@ -78,7 +63,7 @@ std::optional<std::string> ImageDataUri(const fs::path& file, int max_side) {
     return std::nullopt;
   }
   const int side = std::max(image.width, image.height);
-  image = Shrink(image, (side + max_side - 1) / max_side);
+  image = BoxShrink(image, (side + max_side - 1) / max_side);
   std::vector<unsigned char> rgb(size_t(image.width) * image.height * 3);
   for (size_t i = 0, n = size_t(image.width) * image.height; i < n; ++i)
     for (size_t c = 0; c < 3; ++c)

@@ -49,7 +49,8 @@ var previewPort = (function () {
   }
   // The camera at v: K, and cam_from_world = [R t] · pose⁻¹ (a pose is rigid).
   function camera(c, v) {
-    var K = c.K.map(function (s) { return scalar(s, v); });
+    // A photograph shrunk by the scene's max_side has K's first two rows divided (Scene::Cameras).
+    var K = c.K.map(function (s, i) { return i < 6 ? scalar(s, v) / c.shrink : scalar(s, v); });
     var m = [c.R[0], c.R[1], c.R[2], c.t[0], c.R[3], c.R[4], c.R[5], c.t[1], c.R[6], c.R[7], c.R[8], c.t[2], 0, 0, 0, 1];
     if (c.pose.length) {
       var p = compose(c.pose, v, identity()), inverse = identity();

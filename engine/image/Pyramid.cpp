@@ -61,6 +61,22 @@ Image Downsample2x(const Image& fine) {
   return coarse;
 }
 
+Image BoxShrink(const Image& image, int factor) {
+  if (factor <= 1) return image;
+  Image out(std::max(1, image.width / factor), std::max(1, image.height / factor), 0.0f);
+  const float weight = 1.0f / float(factor * factor);
+  for (int y = 0; y < out.height; ++y)
+    for (int x = 0; x < out.width; ++x) {
+      float* o = out.At(x, y);
+      for (int dy = 0; dy < factor; ++dy)
+        for (int dx = 0; dx < factor; ++dx) {
+          const float* p = image.At(std::min(x * factor + dx, image.width - 1), std::min(y * factor + dy, image.height - 1));
+          for (int c = 0; c < 4; ++c) o[c] += p[c] * weight;
+        }
+    }
+  return out;
+}
+
 std::vector<Image> BuildPyramid(const Image& base, int levels) {
   if (levels < 1) throw std::invalid_argument("BuildPyramid: levels must be >= 1");
   if (base.Empty()) throw std::invalid_argument("BuildPyramid: empty image");

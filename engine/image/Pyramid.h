@@ -34,6 +34,11 @@ std::vector<Image> BuildPyramid(const Image& base, int levels);
 // One step of BuildPyramid: blur and halve (size ceil(w/2) × ceil(h/2)).
 Image Downsample2x(const Image& fine);
 
+// Box filter by an integer factor f: size floor(w/f) × floor(h/f) (at least 1), each pixel the
+// mean of the f × f it covers (edges clamped where the image is smaller than f). The
+// remainder at the right and bottom is cropped, so a point at x lies at x / f, as above.
+Image BoxShrink(const Image& image, int factor);
+
 // Replaces alpha with the image's gradient magnitude, quantised to 8 bits:
 // min(1, sqrt(⅓ Σ_c (∂I_c/∂x)² + (∂I_c/∂y)²)) with central differences (one-sided at the
 // border), in colour units per pixel. The likelihood's noise model turns it into colour

@@ -156,7 +156,10 @@ std::vector<Camera> Scene::Cameras(const std::vector<double>& psi) const {
     cam.width = model.width;
     cam.height = model.height;
     cam.distortion = model.distortion;
+    cam.shrink = model.shrink;
     for (int k = 0; k < 9; ++k) cam.K(k / 3, k % 3) = Evaluate(model.K[k], psi);
+    // The shrunk pixel (i, j) covers the file's shrink·i … shrink·(i+1) − 1: S·K, as a pyramid level.
+    cam.K.topRows<2>() /= double(model.shrink);
     cam.cam_from_world.setIdentity();
     cam.cam_from_world.topLeftCorner<3, 3>() = model.R;
     cam.cam_from_world.topRightCorner<3, 1>() = model.t;

@@ -93,6 +93,9 @@ struct CameraModel {
   // The validity mask (absolute path, 0 = ignore that pixel), or empty: every pixel counts.
   // Found by the masks folder rule of docs/guide/SCENE_FORMAT.md, "Masks".
   std::filesystem::path mask;
+  // The scene's `max_side` shrinks the photograph by this integer factor (Photographs.h):
+  // width and height are then the shrunk size, and K is divided by it in Scene::Cameras.
+  int shrink = 1;
 };
 
 // A camera evaluated at one hypothesis. OpenCV convention: x_cam = R·X + t, the camera
@@ -106,6 +109,7 @@ struct Camera {
   Eigen::Matrix4d cam_from_world = Eigen::Matrix4d::Identity();
   // Applied to normalised coordinates between cam_from_world and K (LensDistortion.h).
   LensDistortion distortion;
+  int shrink = 1;  // load `image` with LoadPhotograph(image, shrink) (Photographs.h)
 
   Eigen::Matrix3d R() const { return cam_from_world.topLeftCorner<3, 3>(); }
   Eigen::Vector3d t() const { return cam_from_world.topRightCorner<3, 1>(); }
@@ -227,6 +231,9 @@ class Scene {
 
   std::filesystem::path file;        // the scene file (absolute)
   std::filesystem::path images_dir;  // where camera images resolve (absolute)
+  // The longest side a photograph is used at (0: as it is); larger ones are shrunk by an
+  // integer factor on load (Photographs.h).
+  int max_side = 0;
   // The overrides it was loaded with: with `file`, how to load it again (a run records both,
   // and loads it again at another atlas side).
   std::vector<SceneOverride> overrides;

@@ -10,6 +10,7 @@
 
 #include "engine/common/InputError.h"
 #include "engine/scene/Expression.h"
+#include "engine/scene/Photographs.h"
 #include "engine/scene/SceneJson.h"
 
 namespace vkr {
@@ -339,7 +340,7 @@ Scene LoadScene(const std::filesystem::path& file, const std::vector<SceneOverri
   r.file = display;
   r.dir = scene.file.parent_path();
   r.overridden = &overridden;
-  r.CheckObject(root, "", {"version", "images", "cameras", "masks", "parameters", "nodes",
+  r.CheckObject(root, "", {"version", "images", "max_side", "cameras", "masks", "parameters", "nodes",
                            "likelihood", "sampler", "synth"});
 
   const long long version = r.Integer(r.Require(root, "", "version"), "version", 0, LLONG_MAX);
@@ -371,6 +372,15 @@ Scene LoadScene(const std::filesystem::path& file, const std::vector<SceneOverri
     ReadCameras(*it, r, options.require_images, scene);
   const auto masks = root.find("masks");
   ResolveMasks(masks == root.end() ? nullptr : &*masks, r, options.require_images, scene);
+  // After the checks of every photograph's and mask's own size: the shrunk size is derived.
+  if (auto it = root.find("max_side"); it != root.end()) {
+    scene.max_side = int(r.Integer(*it, "max_side", 16, 1 << 16));
+    for (CameraModel& cam : scene.cameras) {
+      cam.shrink = ShrinkFactor(cam.width, cam.height, scene.max_side);
+      cam.width /= cam.shrink;
+      cam.height /= cam.shrink;
+    }
+  }
   CheckScene(scene, display);
   return scene;
 }

@@ -6,6 +6,7 @@
 
 #include "engine/common/InputError.h"
 #include "engine/image/Pyramid.h"
+#include "engine/scene/Photographs.h"
 #include "pipelines/rendering/LensWarp.h"
 
 namespace vkr {
@@ -57,7 +58,7 @@ std::string Size(int w, int h) { return std::to_string(w) + "×" + std::to_strin
 CameraPhoto LoadCameraPhoto(const Scene& scene, int index, int levels) {
   const CameraModel& cam = scene.cameras.at(size_t(index));
   const std::string field = "cameras[" + std::to_string(index) + "].image";
-  Image image = LoadImage(cam.image);
+  Image image = LoadPhotograph(cam.image, cam.shrink);
   if (image.width != cam.width || image.height != cam.height)
     throw InputError(scene.file.string(), field,
                      cam.image.string() + " is " + Size(image.width, image.height) + " but the camera says " +
@@ -67,7 +68,7 @@ CameraPhoto LoadCameraPhoto(const Scene& scene, int index, int levels) {
                      cam.image.string() + " is too small for " + std::to_string(levels) + " pyramid levels");
   Image mask;
   if (!cam.mask.empty()) {
-    mask = LoadImage(cam.mask);  // the loader checked it; it may have changed since
+    mask = LoadMask(cam.mask, cam.shrink);  // the loader checked it; it may have changed since
     if (mask.width != cam.width || mask.height != cam.height)
       throw InputError(scene.file.string(), "masks",
                        "mask " + cam.mask.string() + " is " + Size(mask.width, mask.height) + " but camera " +

@@ -10,6 +10,7 @@
 #include "engine/common/InputError.h"
 #include "engine/image/ChiSquareRamp.h"
 #include "engine/image/Pyramid.h"
+#include "engine/scene/Photographs.h"
 #include "pipelines/rendering/ViewRendering.h"
 
 namespace fs = std::filesystem;
@@ -181,7 +182,7 @@ std::vector<Reprojection> WriteReprojections(const fs::path& dir, vk::Device& de
   const double sigma2 = std::pow(noise.sigma_255 / 255.0, 2), delta2 = noise.position_sd * noise.position_sd;
   std::vector<Reprojection> written;
   for (size_t i = 0; i < cameras.size(); ++i) {
-    Image reference = LoadImage(cameras[i].image);
+    Image reference = LoadPhotograph(cameras[i].image, cameras[i].shrink);
     const int w = reference.width, h = reference.height;
     Image strip(3 * w, h, 0.0f), residual(w, h, 0.0f);
     Image gradient = reference;

@@ -1,5 +1,6 @@
 #include "pipelines/rendering/WireframeOverlay.h"
 
+#include "engine/scene/Photographs.h"
 #include <algorithm>
 #include <cmath>
 #include <map>
@@ -156,7 +157,7 @@ std::vector<fs::path> WriteWireframeOverlays(const fs::path& dir, const Scene& s
   std::vector<fs::path> written;
   for (const Camera& camera : scene.Cameras(psi)) {
     const fs::path file = dir / (camera.name + ".png");
-    WritePng(file, DrawWireframe(LoadImage(camera.image), camera, edges, options));
+    WritePng(file, DrawWireframe(LoadPhotograph(camera.image, camera.shrink), camera, edges, options));
     written.push_back(file);
   }
   return written;

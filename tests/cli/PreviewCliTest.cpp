@@ -12,6 +12,7 @@
 #include <regex>
 
 #include "engine/image/Image.h"
+#include "engine/scene/Photographs.h"
 #include "tests/cli/CliTestUtil.h"
 #include "tests/common/TestFiles.h"
 
@@ -27,7 +28,8 @@ const fs::path kBox = fs::path(VKRECON_SOURCE_DIR) / "assets/box";
 
 // The box with its transform written as expressions (the page must evaluate them as muParser
 // does) and quarter-size photographs through a distorting lens, previewed at values off the
-// scene's init, with a turned box so the rotation counts.
+// scene's init, with a turned box so the rotation counts. `max_side` halves the photographs
+// again, so the page's K is the shrunk camera's.
 class PreviewCli : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
@@ -42,6 +44,7 @@ class PreviewCli : public ::testing::Test {
     scene["images"] = (dir / "images").string();
     scene["likelihood"]["atlas"] = 64;
     scene["likelihood"]["levels"] = 1;
+    scene["max_side"] = 80;
     test::WriteText(dir / "scene.json", scene.dump(2));
     test::WriteText(dir / "at.json", R"({"x": 0.1, "y": -0.05, "yaw": 17, "w": 0.8, "d": 0.7, "h": 0.5})");
     synth_ = RunCommand(kVkrecon + " synth -q " + Quote(kBox / "scene.json") + " --at " + Quote(kBox / "truth.json") +
@@ -94,7 +97,9 @@ TEST_F(PreviewCli, WritesAnOverlayPerPhotographAndTheValuesDrawn) {
     ++cameras_seen;
     const fs::path overlay = dir() / "preview/overlays" / photo.filename();
     ASSERT_TRUE(fs::exists(overlay)) << overlay;
-    const Image a = LoadImage(photo), b = LoadImage(overlay);
+    // The overlay is at the size the scene works at: max_side 80 halves the 160 × 120 photograph.
+    const Image a = LoadPhotograph(photo, 2), b = LoadImage(overlay);
+    ASSERT_EQ(a.width, 80);
     ASSERT_EQ(a.width, b.width);
     ASSERT_EQ(a.height, b.height);
     size_t changed = 0;
