@@ -49,7 +49,13 @@ int RunInit(int argc, char** argv) {
                  "ID1,ID2=LENGTH: two POINT3D_IDs (as in points3D, see points.ply's order) and their distance in "
                  "metres; without it the scene keeps the model's units");
   app.add_option("--seed", options.seed, "the ground's RANSAC seed")->capture_default_str();
+  app.add_option("--max-side", options.max_side,
+                 "photographs larger than this many pixels on their longer side are used shrunk by an integer "
+                 "factor (the scene's \"max_side\"); 0 uses them as they are")
+      ->capture_default_str();
   if (auto status = Parse(app, argc, argv)) return *status;
+  if (options.max_side != 0 && (options.max_side < 16 || options.max_side > (1 << 16)))
+    throw InputError("", "--max-side", "expected 0 (none) or 16 to 65536, not " + std::to_string(options.max_side));
   options.sparse = sparse;
   options.output = output;
   options.images = images;

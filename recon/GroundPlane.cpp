@@ -1,6 +1,7 @@
 #include "recon/GroundPlane.h"
 
 #include <Eigen/Eigenvalues>
+#include <algorithm>
 #include <cmath>
 #include <random>
 
@@ -62,15 +63,20 @@ std::optional<GroundPlane> FitGroundPlane(const std::vector<Eigen::Vector3d>& po
   if (points.size() < 3) return std::nullopt;
   std::mt19937_64 rng(options.seed);
   std::uniform_int_distribution<size_t> pick(0, points.size() - 1);
+  std::vector<Eigen::Vector3d> sample;
+  const size_t stride = (points.size() + size_t(options.support_sample) - 1) / size_t(std::max(options.support_sample, 1));
+  for (size_t i = 0; i < points.size(); i += std::max<size_t>(stride, 1)) sample.push_back(points[i]);
+  const auto score = [&](const GroundPlane& p) { return double(p.inliers) * p.normal.dot(options.up) - double(p.below); };
   std::optional<GroundPlane> best;
   for (int i = 0; i < options.iterations; ++i) {
     const Eigen::Vector3d &a = points[pick(rng)], &b = points[pick(rng)], &c = points[pick(rng)];
     std::optional<GroundPlane> plane = Facing((b - a).cross(c - a), a, options);
     if (!plane) continue;
-    CountSupport(points, options.tolerance, *plane);
-    if (Acceptable(*plane, points.size(), options) && (!best || plane->inliers > best->inliers)) best = plane;
+    CountSupport(sample, options.tolerance, *plane);
+    if (Acceptable(*plane, sample.size(), options) && (!best || score(*plane) > score(*best))) best = plane;
   }
   if (!best) return std::nullopt;
+  CountSupport(points, options.tolerance, *best);
   GroundPlane refit = Refit(points, *best, options);
   // The refit may lean past the tilt or drop support; then the RANSAC plane stands.
   if (refit.normal.dot(options.up) < std::cos(options.max_tilt_deg * M_PI / 180.0) ||

@@ -135,6 +135,30 @@ std::vector<Vec3> NearTheObject(std::vector<Vec3> above, const ColmapReconstruct
   return above;
 }
 
+// Without the isolated points: those whose mean distance to their 6 nearest neighbours is over
+// 3 times the median's. A sparse model holds stray triangulations (the sky, a mismatch) that
+// would stretch the percentiles the priors come from; the object's surfaces are dense.
+// Neighbours are sought among at most 4,000 evenly picked points, so large models stay fast.
+std::vector<Vec3> DropIsolated(std::vector<Vec3> points) {
+  constexpr int kNeighbours = 6;
+  if (points.size() <= size_t(2 * kNeighbours)) return points;
+  const size_t stride = (points.size() + 3999) / 4000;
+  std::vector<double> spacing;
+  for (const Vec3& x : points) {
+    std::vector<double> d;
+    for (size_t j = 0; j < points.size(); j += stride) d.push_back((points[j] - x).norm());
+    std::partial_sort(d.begin(), d.begin() + kNeighbours + 1, d.end());
+    double sum = 0.0;
+    for (int k = 1; k <= kNeighbours; ++k) sum += d[size_t(k)];  // d[0]: itself, or its nearest
+    spacing.push_back(sum / kNeighbours);
+  }
+  const double limit = 3.0 * Percentile(spacing, 0.5);
+  std::vector<Vec3> kept;
+  for (size_t i = 0; i < points.size(); ++i)
+    if (spacing[i] <= limit) kept.push_back(points[i]);
+  return kept;
+}
+
 }  // namespace
 
 namespace {
@@ -244,7 +268,8 @@ std::string InitJson(const InitOptions& o, const InitResult& r) {
                            {"template", ToString(o.template_kind)},
                            {"up", o.up ? Vector(*o.up) : nullptr},
                            {"ground_tolerance", o.ground_tolerance},
-                           {"seed", o.seed}};
+                           {"seed", o.seed},
+                           {"max_side", o.max_side}};
   if (o.scale) j["scale_points"] = {{"a", o.scale->a}, {"b", o.scale->b}, {"length", o.scale->length}};
   nlohmann::ordered_json matrix = nlohmann::ordered_json::array();
   for (int i = 0; i < 4; ++i) matrix.push_back({r.scene_from_model(i, 0), r.scene_from_model(i, 1), r.scene_from_model(i, 2), r.scene_from_model(i, 3)});
@@ -260,6 +285,16 @@ std::string RelativeFolder(const fs::path& folder, const fs::path& output) {
   return folder.lexically_relative(fs::absolute(output).lexically_normal()).generic_string() + "/";
 }
 
+// `"max_side"` right after `"images"`, where a reader looks for how the photographs are used.
+nlohmann::ordered_json WithMaxSide(nlohmann::ordered_json scene, int max_side) {
+  nlohmann::ordered_json out;
+  for (auto& [key, value] : scene.items()) {
+    out[key] = std::move(value);
+    if (key == "images") out["max_side"] = max_side;
+  }
+  return out;
+}
+
 void WriteOutputs(const InitOptions& o, const ColmapReconstruction& model, const SceneFrame& f,
                   const StarterExtents& extents, InitResult& r) {
   fs::create_directories(o.output);
@@ -270,7 +305,8 @@ void WriteOutputs(const InitOptions& o, const ColmapReconstruction& model, const
   WriteAtomically(o.output / "points.ply", PointsPly(xyz, rgb));
   std::optional<std::string> masks;
   if (r.masks) masks = RelativeFolder(*r.masks, o.output);
-  const auto scene = StarterSceneJson(o.template_kind, extents, RelativeFolder(r.images, o.output), masks);
+  auto scene = StarterSceneJson(o.template_kind, extents, RelativeFolder(r.images, o.output), masks);
+  if (r.max_side > 0) scene = WithMaxSide(std::move(scene), r.max_side);
   WriteAtomically(o.output / "scene.json", scene.dump(2) + "\n");
   WriteAtomically(o.output / "init.json", InitJson(o, r));
   for (const char* name : {"cameras.json", "points.ply", "scene.json", "init.json"}) r.written.push_back(o.output / name);
@@ -295,6 +331,8 @@ InitResult InitScene(const InitOptions& o) {
   r.images = ImagesFolder(o);
   if (fs::is_directory(r.images.parent_path() / "masks")) r.masks = r.images.parent_path() / "masks";
   CheckPhotographs(model, r.images);
+  for (const ColmapImage& im : model.images) r.largest_side = std::max({r.largest_side, im.width, im.height});
+  if (o.max_side > 0 && r.largest_side > o.max_side) r.max_side = o.max_side;
   std::vector<Vec3> points;
   for (const ColmapPoint& p : model.points) points.push_back(p.xyz);
   GroundPlaneOptions go;
@@ -308,7 +346,7 @@ InitResult InitScene(const InitOptions& o) {
     if (ground->Height(x) > 3.0 * go.tolerance) above.push_back(x);
     if (std::abs(ground->Height(x)) <= go.tolerance) on.push_back(x);
   }
-  above = NearTheObject(std::move(above), model, ground->normal);
+  above = DropIsolated(NearTheObject(std::move(above), model, ground->normal));
   if (above.size() < kMinAbove)
     throw InputError(Shown(o.sparse), "points3D", std::string("the ") + ToString(o.template_kind) +
         " template does not fit: " + std::to_string(above.size()) + " of " + std::to_string(points.size()) +
@@ -371,6 +409,11 @@ std::string InitResult::BriefReport() const {
                 above, lo.x(), hi.x(), lo.y(), hi.y(), hi.z());
   out += line;
   out += "photographs: " + images.string() + (masks ? ", masks: " + masks->string() : ", no masks folder beside them") + "\n";
+  if (max_side > 0) {
+    std::snprintf(line, sizeof line, "size: the largest photograph is %d px; the scene uses them shrunk to at most %d (\"max_side\")\n",
+                  largest_side, max_side);
+    out += line;
+  }
   out += "wrote:";
   for (const auto& file : written) out += " " + file.string();
   return out + "\n";

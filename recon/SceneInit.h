@@ -42,6 +42,9 @@ struct InitOptions {
   // points from their median).
   double ground_tolerance = 0.02;
   std::uint64_t seed = 1;  // RANSAC's
+  // The starter scene's `max_side` when a photograph is larger (0: none): phone photographs
+  // go in shrunk by an integer factor instead of at 12 megapixels (engine/scene/Photographs.h).
+  int max_side = 1600;
 };
 
 // What init found and wrote; BriefReport() is what the command prints.
@@ -60,6 +63,8 @@ struct InitResult {
   Eigen::Vector3d lo = Eigen::Vector3d::Zero(), hi = Eigen::Vector3d::Zero();
   std::filesystem::path images;  // the photographs' folder
   std::optional<std::filesystem::path> masks;  // the masks' folder, when there is one
+  int largest_side = 0;  // of the photographs
+  int max_side = 0;      // written to the scene (0: none, the photographs are used as they are)
   std::vector<std::filesystem::path> written;
   std::string BriefReport() const;
 };
