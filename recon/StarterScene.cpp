@@ -73,7 +73,9 @@ Json StarterSceneJson(InitTemplate kind, const StarterExtents& e, const std::str
   }
   scene["parameters"] = parameters;
   scene["nodes"] = nodes;
-  scene["likelihood"] = Json{{"kind", "surface"}, {"sigma", "auto"}, {"weights", "angle"}};
+  // The ground is 2–6 times the footprint and seen obliquely: shared by area it would take most
+  // texels, and the object, which the photographs show largest, would get too few.
+  scene["likelihood"] = Json{{"kind", "surface"}, {"sigma", "auto"}, {"weights", "angle"}, {"charts", "pixels"}};
   return scene;
 }
 

@@ -6,7 +6,8 @@ cd "$(dirname "$0")/.."
 # The report group adds headless Chromium: cli/ReportCli.BrowserFindsNoErrorInThePage opens a
 # run's report.html in it (skipped where it is missing, so CI installs it).
 # The python group builds `import vkrecon` and runs its pytest suite (python/pytest).
-scripts/bootstrap.sh report python
+# The colmap group: integration/PhotographsToScene calibrates synthesised photographs with it.
+scripts/bootstrap.sh report python colmap
 scripts/build.sh
 BUILD_DIR=${VKRECON_BUILD_DIR:-build}
 export VKRECON_VALIDATION=1
