@@ -416,7 +416,10 @@ std::string InitResult::BriefReport() const {
   }
   out += "wrote:";
   for (const auto& file : written) out += " " + file.string();
-  return out + "\n";
+  if (written.empty()) return out + "\n";
+  const std::string scene = written.front().parent_path().string() + "/scene.json";
+  return out + "\nnext: check the starter scene over the photographs with `vkrecon preview " + scene +
+         " -o preview/`, edit its priors, then `vkrecon run " + scene + " -o run/`\n";
 }
 
 }  // namespace vkr::recon

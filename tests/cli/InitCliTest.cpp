@@ -21,6 +21,7 @@ TEST(InitCli, WritesTheSceneFolderAndSaysWhatItFound) {
   std::cout << r.out;
   EXPECT_NE(r.out.find("model: 7 images, 3000 points"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("units: metres"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("next: check the starter scene over the photographs with `vkrecon preview"), std::string::npos);
   for (const char* file : {"cameras.json", "points.ply", "scene.json", "init.json"})
     EXPECT_TRUE(std::filesystem::exists(dir / "scene" / file)) << file;
   EXPECT_NE(ReadText(dir / "scene/scene.json").find("\"rh\""), std::string::npos);
