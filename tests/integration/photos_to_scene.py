@@ -14,6 +14,7 @@ true one up to a similarity (scale, rotation, shift), which the cameras' centres
 The box's own textures are smooth value noise, on which SIFT finds too few features, so the
 photographs here are of the same box under textures of discs of every size (what a textured
 real object offers COLMAP), from a ring of 24 cameras (COLMAP needs overlapping neighbours).
+`--asset house` does the same with the house and init's house template.
 
 Exit status: 0 passed, 1 a check failed, 77 COLMAP or numpy is not installed (ctest:
 skipped; scripts/test.sh installs both).
@@ -35,7 +36,11 @@ except ImportError:
     sys.exit(77)
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-ASSET = os.path.join(ROOT, "assets", "box")
+# Each asset's textures: (file, seed, discs, background, radii as shares of the side).
+TEXTURES = {
+    "box": [("box.png", 2, 150, (180, 90, 60), (0.04, 0.15))],
+    "house": [("walls.png", 2, 150, (180, 150, 120), (0.04, 0.15)), ("roof.png", 3, 150, (120, 60, 50), (0.04, 0.15))],
+}
 
 
 def write_png(path, rgb):
@@ -89,14 +94,15 @@ def camera_ring(target):
     return cameras
 
 
-def make_true_scene(work):
-    """The bundled box's scene and truth, with disc textures and the camera ring."""
+def make_true_scene(work, asset):
+    """The bundled asset's scene and truth, with disc textures and the camera ring."""
     scene_dir = os.path.join(work, "truth")
     os.makedirs(os.path.join(scene_dir, "textures"))
-    shutil.copy(os.path.join(ASSET, "scene.json"), scene_dir)
-    shutil.copy(os.path.join(ASSET, "truth.json"), scene_dir)
+    shutil.copy(os.path.join(ROOT, "assets", asset, "scene.json"), scene_dir)
+    shutil.copy(os.path.join(ROOT, "assets", asset, "truth.json"), scene_dir)
     write_png(os.path.join(scene_dir, "textures", "ground.png"), discs(1024, 1, 1500, (120, 120, 110), (0.008, 0.05)))
-    write_png(os.path.join(scene_dir, "textures", "box.png"), discs(1024, 2, 150, (180, 90, 60), (0.04, 0.15)))
+    for name, seed, count, background, radii in TEXTURES[asset]:
+        write_png(os.path.join(scene_dir, "textures", name), discs(1024, seed, count, background, radii))
     with open(os.path.join(scene_dir, "truth.json")) as f:
         truth = json.load(f)
     target = np.array([truth["x"], truth["y"], truth["h"] / 2])
@@ -137,17 +143,21 @@ def similarity(src, dst):
     return c, R, md - c * R @ ms
 
 
-def truth_in_scene_frame(truth, c, R, t):
-    """The true box in init's frame. A box is the same box turned by 90° with w and d swapped,
-    so the yaw is brought into init's prior range [-45°, 45°] that way."""
+def truth_in_scene_frame(truth, c, R, t, turn):
+    """The true scene in init's frame. A box is the same box turned by 90° with w and d
+    swapped (`turn` 90), a house the same turned by 180° (`turn` 180), so the yaw is brought
+    into init's prior range [-45°, 45°] that way."""
     centre = c * R @ np.array([truth["x"], truth["y"], 0.0]) + t
     yaw = truth["yaw"] + np.degrees(np.arctan2(R[1, 0], R[0, 0]))
     w, d = truth["w"] * c, truth["d"] * c
     while yaw > 45:
-        yaw, w, d = yaw - 90, d, w
+        yaw, w, d = (yaw - 90, d, w) if turn == 90 else (yaw - 180, w, d)
     while yaw < -45:
-        yaw, w, d = yaw + 90, d, w
-    return {"x": centre[0], "y": centre[1], "yaw": yaw, "w": w, "d": d, "h": truth["h"] * c}, centre[2]
+        yaw, w, d = (yaw + 90, d, w) if turn == 90 else (yaw + 180, w, d)
+    expected = {"x": centre[0], "y": centre[1], "yaw": yaw, "w": w, "d": d, "h": truth["h"] * c}
+    if "rh" in truth:
+        expected["rh"] = truth["rh"] * c
+    return expected, centre[2]
 
 
 def main():
@@ -156,6 +166,7 @@ def main():
     parser.add_argument("--work", required=True, help="a folder for the run (emptied first)")
     parser.add_argument("--iterations", type=int, default=300, help="the run's sampler.iterations")
     parser.add_argument("--seed", type=int, default=1, help="the run's sampler.seed")
+    parser.add_argument("--asset", choices=sorted(TEXTURES), default="box", help="the bundled asset, and init's template")
     args = parser.parse_args()
     if shutil.which("colmap") is None:
         print("SKIP: colmap is not installed (scripts/bootstrap.sh colmap)")
@@ -166,7 +177,7 @@ def main():
     log = os.path.join(work, "log.txt")
     vkrecon = os.path.abspath(args.vkrecon)
 
-    scene_dir, truth = make_true_scene(work)
+    scene_dir, truth = make_true_scene(work, args.asset)
     synth = os.path.join(work, "synth")
     run("synth", [vkrecon, "synth", os.path.join(scene_dir, "scene.json"),
                   "--at", os.path.join(scene_dir, "truth.json"), "-o", synth, "--sun", "135", "50",
@@ -181,7 +192,7 @@ def main():
     scene2 = os.path.join(work, "scene")
     # Half size for the run (320 × 240), as a user shrinks phone photographs.
     run("init", [vkrecon, "init", os.path.join(sparse, "0"), "-o", scene2, "--images", photos,
-                 "--template", "box", "--max-side", "320"], log)
+                 "--template", args.asset, "--max-side", "320"], log)
 
     true_centres = centres(os.path.join(synth, "cameras.json"))
     found_centres = centres(os.path.join(scene2, "cameras.json"))
@@ -193,7 +204,7 @@ def main():
     c, R, t = similarity(np.array([true_centres[n] for n in names]), np.array([found_centres[n] for n in names]))
     residual = max(np.linalg.norm(c * R @ true_centres[n] + t - found_centres[n]) for n in names) / c
     up_error = np.degrees(np.arccos(np.clip(R[2, 2], -1.0, 1.0)))
-    expected, ground_z = truth_in_scene_frame(truth, c, R, t)
+    expected, ground_z = truth_in_scene_frame(truth, c, R, t, 90 if args.asset == "box" else 180)
     print("cameras: %d, centres within %.4f m of the truth after the similarity (scale %.4f)" % (len(names), residual, c))
     print("ground: up %.3f° from the truth's, the true ground at z = %.4f (scene units)" % (up_error, ground_z))
     if up_error > 1.0:
