@@ -205,16 +205,23 @@ opt::MapSearchSummary ReadStartSearch(const RunContext& run) {
   return start;
 }
 
-// The sampler's state with the scene's likelihood settings beside it, atomically.
+// The sampler's state with the scene's likelihood settings and max_side (which photographs the
+// likelihood compares) beside it, atomically.
 void WriteCheckpoint(const RunContext& run, nlohmann::json state) {
   state["likelihood_settings"] = LikelihoodSettingsJson(run.scene);
+  state["max_side"] = run.scene.max_side;
   WriteAtomically(run.checkpoint_file, state.dump());
 }
 
 // InputError naming the first likelihood setting a checkpoint's run had otherwise: chains
 // resumed under another likelihood would sample two posteriors as one.
 void RequireSameLikelihood(const RunContext& run, const nlohmann::json& state) {
-  if (!state.is_object() || !state.contains("likelihood_settings")) return;  // written before they were kept
+  if (!state.is_object()) return;
+  if (const auto it = state.find("max_side"); it != state.end() && *it != run.scene.max_side)
+    throw InputError(run.checkpoint_file.string(), "max_side",
+                     "the checkpoint's run had " + it->dump() + ", this one has " + std::to_string(run.scene.max_side) +
+                         ": resume with the same setting, or start again without --resume");
+  if (!state.contains("likelihood_settings")) return;  // written before they were kept
   const nlohmann::json now = LikelihoodSettingsJson(run.scene);
   for (const auto& [key, then] : state["likelihood_settings"].items())
     if (now.contains(key) && now[key] != then)
@@ -226,15 +233,23 @@ void RequireSameLikelihood(const RunContext& run, const nlohmann::json& state) {
 // The sampler as the checkpoint left it; InputError when it is not this scene's.
 std::unique_ptr<opt::Sampler> ResumeSampler(const RunContext& run, const std::string& checkpoint_text,
                                             opt::Target& target) {
-  std::unique_ptr<opt::Sampler> sampler;
+  const auto unreadable = [&](const std::exception& e) {
+    return InputError(run.checkpoint_file.string(), "", std::string("cannot resume: ") + e.what());
+  };
   nlohmann::json state;
   try {
     state = nlohmann::json::parse(checkpoint_text);
+  } catch (const std::exception& e) {
+    throw unreadable(e);
+  }
+  // Before the sampler restores the target's state (its clutter masks are of the photographs).
+  RequireSameLikelihood(run, state);
+  std::unique_ptr<opt::Sampler> sampler;
+  try {
     sampler = std::make_unique<opt::Sampler>(state, target);
   } catch (const std::exception& e) {
-    throw InputError(run.checkpoint_file.string(), "", std::string("cannot resume: ") + e.what());
+    throw unreadable(e);
   }
-  RequireSameLikelihood(run, state);
   const auto& names = sampler->parameters();
   for (size_t i = 0; i < names.size() || i < run.scene.parameters.size(); ++i)
     if (i >= names.size() || i >= run.scene.parameters.size() || names[i].name != run.scene.parameters[i].name)

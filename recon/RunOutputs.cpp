@@ -149,6 +149,7 @@ nlohmann::json SettingsJson(const RunContext& run, const opt::Sampler& sampler) 
       {"scene", scene.file.string()},
       {"overrides", nlohmann::json::array()},
       {"device", run.device.name()},
+      {"max_side", scene.max_side > 0 ? nlohmann::json(scene.max_side) : nlohmann::json(nullptr)},
       {"likelihood", LikelihoodSettingsJson(scene)},
       {"sampler", opt::ToJson(sampler.options())},
       {"time_limit", run.time_limit}};

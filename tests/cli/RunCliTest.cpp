@@ -86,6 +86,7 @@ TEST(RunCli, KilledRunResumesToTheSameResult) {
   EXPECT_GT(a["calibration"]["kappa"].get<double>(), 0.0);
   EXPECT_EQ(a["settings"]["likelihood"]["sigma"], "auto");
   EXPECT_EQ(a["settings"]["likelihood"]["edges"], false);
+  EXPECT_TRUE(a["settings"]["max_side"].is_null()) << "the photographs at their size";
   EXPECT_EQ(test::ReadText(dir / "straight/chain.csv"), test::ReadText(out / "chain.csv"));
   for (const char* f : {"composite.exr", "composite.png", "model.glb", "chain.csv"}) EXPECT_TRUE(fs::exists(out / f)) << f;
   // One CmdStan CSV per posterior chain (its format is tested in optimiser/Sampler.StanCsv…),
@@ -195,6 +196,11 @@ TEST(RunCli, ATruncatedOrCorruptCheckpointOrOtherSettingsAreBadInputNotACrashOrA
             std::string::npos) << other.err;
   EXPECT_EQ(std::count(other.err.begin(), other.err.end(), '\n'), 1) << other.err;
   EXPECT_EQ(test::ReadText(out / "checkpoint.json"), checkpoint) << "a refused resume leaves the checkpoint alone";
+  // So would other photographs: max_side shrinks them.
+  const auto smaller = RunCommand(SmallRun(dir, 20) + " --set max_side=80 -o " + Q(out) + " --resume");
+  EXPECT_EQ(smaller.exit_status, 2) << smaller.err;
+  EXPECT_NE(smaller.err.find("checkpoint.json: max_side: the checkpoint's run had 0, this one has 80"), std::string::npos)
+      << smaller.err;
   const std::vector<std::pair<std::string, std::string>> cases = {
       {"truncated", checkpoint.substr(0, checkpoint.size() / 2)},
       {"empty", ""},
