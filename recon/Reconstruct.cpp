@@ -217,17 +217,17 @@ void WriteCheckpoint(const RunContext& run, nlohmann::json state) {
 // resumed under another likelihood would sample two posteriors as one.
 void RequireSameLikelihood(const RunContext& run, const nlohmann::json& state) {
   if (!state.is_object()) return;
-  if (const auto it = state.find("max_side"); it != state.end() && *it != run.scene.max_side)
-    throw InputError(run.checkpoint_file.string(), "max_side",
-                     "the checkpoint's run had " + it->dump() + ", this one has " + std::to_string(run.scene.max_side) +
-                         ": resume with the same setting, or start again without --resume");
+  const auto require = [&](const std::string& field, const nlohmann::json& then, const nlohmann::json& now) {
+    if (then != now)
+      throw InputError(run.checkpoint_file.string(), field,
+                       "the checkpoint's run had " + then.dump() + ", this one has " + now.dump() +
+                           ": resume with the same setting, or start again without --resume");
+  };
+  if (const auto it = state.find("max_side"); it != state.end()) require("max_side", *it, run.scene.max_side);
   if (!state.contains("likelihood_settings")) return;  // written before they were kept
   const nlohmann::json now = LikelihoodSettingsJson(run.scene);
   for (const auto& [key, then] : state["likelihood_settings"].items())
-    if (now.contains(key) && now[key] != then)
-      throw InputError(run.checkpoint_file.string(), "likelihood." + key,
-                       "the checkpoint's run had " + then.dump() + ", this one has " + now[key].dump() +
-                           ": resume with the same setting, or start again without --resume");
+    if (now.contains(key)) require("likelihood." + key, then, now[key]);
 }
 
 // The sampler as the checkpoint left it; InputError when it is not this scene's.

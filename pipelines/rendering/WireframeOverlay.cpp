@@ -1,10 +1,11 @@
 #include "pipelines/rendering/WireframeOverlay.h"
 
-#include "engine/scene/Photographs.h"
 #include <algorithm>
 #include <cmath>
 #include <map>
 #include <tuple>
+
+#include "engine/scene/Photographs.h"
 
 namespace fs = std::filesystem;
 
