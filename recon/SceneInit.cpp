@@ -24,6 +24,8 @@ using Vec3 = Eigen::Vector3d;
 
 // The fewest points above the ground a template is fitted to.
 constexpr size_t kMinAbove = 20;
+// Fewer ground inliers than this fix its tilt poorly: init warns.
+constexpr int kFewGroundInliers = 50;
 
 double Percentile(std::vector<double> v, double q) {
   const size_t k = std::min(v.size() - 1, size_t(q * double(v.size() - 1) + 0.5));
@@ -321,6 +323,19 @@ double GroundSize(const std::vector<Vec3>& ground, const Vec3& lo, const Vec3& h
   return std::clamp(2.0 * Percentile(reach, 0.98), 2.0 * footprint, 6.0 * footprint);
 }
 
+// The corner template's walls, from the points below half the top (above the eaves, roofs
+// lean back over the walls and would blur their lines in the footprint).
+CornerFit Corner(const InitOptions& o, const ColmapReconstruction& model, const SceneFrame& f,
+                 const std::vector<Vec3>& above, double top, double model_tolerance) {
+  std::vector<Eigen::Vector2d> footprint, cameras;
+  for (const Vec3& x : above)
+    if (x.z() <= 0.5 * top) footprint.push_back(x.head<2>());
+  for (const ColmapImage& im : model.images) cameras.push_back(f.Apply(-im.R.transpose() * im.t).head<2>());
+  const CornerResult c = FitCorner(footprint, cameras, model_tolerance * f.scale, o.seed);
+  if (!c.fit) throw InputError(Shown(o.sparse), "points3D", "the corner template does not fit: " + c.why_not);
+  return *c.fit;
+}
+
 }  // namespace
 
 InitResult InitScene(const InitOptions& o) {
@@ -368,14 +383,23 @@ InitResult InitScene(const InitOptions& o) {
   r.scale = f.scale;
   r.metres = o.scale.has_value();
   r.scene_from_model = f.Matrix();
-  WriteOutputs(o, model, f, StarterExtents{r.lo, r.hi, GroundSize(on, r.lo, r.hi)}, r);
+  StarterExtents extents{r.lo, r.hi, GroundSize(on, r.lo, r.hi), std::nullopt};
+  if (o.template_kind == InitTemplate::Corner) extents.corner = Corner(o, model, f, above, r.hi.z(), go.tolerance);
+  WriteOutputs(o, model, f, extents, r);
   return r;
 }
 
-const char* ToString(InitTemplate t) { return t == InitTemplate::Box ? "box" : "house"; }
+const char* ToString(InitTemplate t) {
+  switch (t) {
+    case InitTemplate::Box: return "box";
+    case InitTemplate::House: return "house";
+    case InitTemplate::Corner: return "corner";
+  }
+  return "?";
+}
 
 bool FromString(const std::string& text, InitTemplate* t) {
-  for (InitTemplate k : {InitTemplate::Box, InitTemplate::House})
+  for (InitTemplate k : {InitTemplate::Box, InitTemplate::House, InitTemplate::Corner})
     if (text == ToString(k)) return *t = k, true;
   return false;
 }
@@ -399,7 +423,9 @@ std::string InitResult::BriefReport() const {
   std::snprintf(line, sizeof line, "ground: %d inliers (%.0f%%), its normal %.2f° from the cameras' mean up\n",
                 ground_inliers, 100.0 * ground_inliers / std::max(points, 1), up_vs_cameras_deg);
   out += line;
-  if (up_vs_cameras_deg > 20.0 || ground_inliers < 0.1 * points)
+  // A ground passed FitGroundPlane's tests; it is weak when it leans from how the photographs
+  // were held, or too few points fix its tilt. A building's ground holds few of the points.
+  if (up_vs_cameras_deg > 20.0 || ground_inliers < kFewGroundInliers)
     out += "warning: a weak ground (few inliers, or far from the cameras' up): check points.ply, or give --up\n";
   out += "frame: z up, ground at z = 0, origin under the centre of the points above it, +x along their footprint's principal axis\n";
   std::snprintf(line, sizeof line, metres ? "units: metres (%.6g per model unit, from --scale-points)\n"

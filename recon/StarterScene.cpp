@@ -13,11 +13,15 @@ using Json = nlohmann::ordered_json;
 // undershoot a face's extent, and a template is only a first guess of the shape.
 constexpr double kSizeLo = 0.5, kSizeHi = 1.6;
 
-// A few significant digits: priors and inits are guesses, not measurements.
+// Three significant digits: priors and inits are guesses, not measurements. Through text, so
+// that the JSON reads 89.3 and not 89.30000000000001.
 double Round(double v) {
   if (v == 0.0 || !std::isfinite(v)) return v;
-  const double unit = std::pow(10.0, std::floor(std::log10(std::abs(v))) - 2);
-  return std::round(v / unit) * unit;
+  char text[32];
+  const auto end = std::to_chars(text, text + sizeof text, v, std::chars_format::general, 3).ptr;
+  double rounded = v;
+  std::from_chars(text, end, rounded);
+  return rounded;
 }
 
 Json Uniform(double lo, double hi, double init) {
@@ -46,6 +50,33 @@ Json Walls(const char* name) {
               {"transforms", {Json{{"translate", {"x", "y", 0}}}, Json{{"rotate", {0, 0, "yaw"}}}, Scale("w", "d", "h")}}};
 }
 
+// Two walls from the corner, as docs/examples/merton: wall a along the corner's +x, wall b
+// `angle` counter-clockwise from it, both facing the cameras between them. Their lengths are
+// the points' and fixed: the photographs may not show where a wall ends.
+void CornerNodes(const CornerFit& c, Json& nodes) {
+  const double a = Round(c.length_a), b = Round(c.length_b);
+  nodes.push_back(Json{{"name", "corner"}, {"transforms", {Json{{"translate", {"xc", "yc", 0}}}, Json{{"rotate", {0, 0, "yaw"}}}}}});
+  nodes.push_back(Json{{"name", "wall_a"},
+                       {"parent", "corner"},
+                       {"primitive", "plane"},
+                       {"transforms", {Json{{"translate", {a / 2, 0, "h/2"}}}, Json{{"rotate", {-90, 0, 0}}}, Scale(a, "h", 1)}}});
+  nodes.push_back(Json{{"name", "wall_b"},
+                       {"parent", "corner"},
+                       {"primitive", "plane"},
+                       {"transforms", {Json{{"rotate", {0, 0, "angle - 90"}}}, Json{{"translate", {0, b / 2, "h/2"}}},
+                                       Json{{"rotate", {-90, 0, -90}}}, Scale(b, "h", 1)}}});
+}
+
+// xc yc yaw angle: where the walls meet and how they run, within a twentieth of the longer
+// wall, 10° and 15° of what the points say.
+void CornerParameters(const CornerFit& c, Json& parameters) {
+  const double reach = 0.05 * std::max(c.length_a, c.length_b);
+  parameters["xc"] = Uniform(c.corner.x() - reach, c.corner.x() + reach, c.corner.x());
+  parameters["yc"] = Uniform(c.corner.y() - reach, c.corner.y() + reach, c.corner.y());
+  parameters["yaw"] = Uniform(c.yaw_deg - 10.0, c.yaw_deg + 10.0, c.yaw_deg);
+  parameters["angle"] = Uniform(c.angle_deg - 15.0, c.angle_deg + 15.0, c.angle_deg);
+}
+
 }  // namespace
 
 Json StarterSceneJson(InitTemplate kind, const StarterExtents& e, const std::string& images,
@@ -54,14 +85,15 @@ Json StarterSceneJson(InitTemplate kind, const StarterExtents& e, const std::str
   if (masks) scene["masks"] = *masks;
   scene["cameras"] = "cameras.json";
   Json parameters = Json::object();
-  FootprintParameters(e, parameters);
   const double top = e.hi.z();
   Json nodes = Json::array();
   nodes.push_back(Json{{"name", "ground"}, {"primitive", "plane"}, {"transforms", {Scale(e.ground_size, e.ground_size, 1)}}});
   if (kind == InitTemplate::Box) {
+    FootprintParameters(e, parameters);
     parameters["h"] = Uniform(kSizeLo * top, kSizeHi * top, top);
     nodes.push_back(Walls("box"));
-  } else {
+  } else if (kind == InitTemplate::House) {
+    FootprintParameters(e, parameters);
     // The points' top is the ridge: the eaves lie somewhere below it, the roof above them.
     parameters["h"] = Uniform(0.25 * top, 1.05 * top, 0.6 * top);
     parameters["rh"] = Uniform(0.05 * top, 0.75 * top, 0.4 * top);
@@ -70,6 +102,11 @@ Json StarterSceneJson(InitTemplate kind, const StarterExtents& e, const std::str
                          {"parent", "walls"},
                          {"primitive", "prism"},
                          {"transforms", {Json{{"translate", {0, 0, 1}}}, Scale(1, 1, "rh/h")}}});
+  } else {
+    CornerParameters(e.corner.value(), parameters);
+    // As the house's: the points' top may be a roof's ridge above the walls.
+    parameters["h"] = Uniform(0.25 * top, 1.05 * top, 0.6 * top);
+    CornerNodes(e.corner.value(), nodes);
   }
   scene["parameters"] = parameters;
   scene["nodes"] = nodes;
@@ -78,7 +115,6 @@ Json StarterSceneJson(InitTemplate kind, const StarterExtents& e, const std::str
   scene["likelihood"] = Json{{"kind", "surface"}, {"sigma", "auto"}, {"weights", "angle"}, {"charts", "pixels"}};
   return scene;
 }
-
 std::string PointsPly(const std::vector<Eigen::Vector3d>& xyz, const std::vector<std::array<std::uint8_t, 3>>& rgb) {
   std::string ply = "ply\nformat ascii 1.0\ncomment vkrecon init: COLMAP's points in the scene frame\nelement vertex " +
                     std::to_string(xyz.size()) +

@@ -10,6 +10,7 @@
 #include <optional>
 #include <vector>
 
+#include "recon/CornerFit.h"
 #include "recon/SceneInit.h"
 
 namespace vkr::recon {
@@ -18,6 +19,7 @@ namespace vkr::recon {
 struct StarterExtents {
   Eigen::Vector3d lo, hi;   // robust box of the points above the ground
   double ground_size = 1.0;  // side of the ground plane node
+  std::optional<CornerFit> corner;  // the corner template's walls
 };
 
 // scene.json of `kind`: parameters with uniform priors and inits from `extents`, the ground and

@@ -64,6 +64,18 @@ TEST(InitBadInput, TemplateDoesNotFitPointsOnTheGroundOnly) {
   EXPECT_TRUE(FailsWith([&] { InitScene(o); }, {"sparse: points3D", "house template does not fit", "above the ground"}));
 }
 
+// A ring of cameras around a box: two of its faces meet in a corner, but the cameras that
+// see the backs of those faces are no inside corner's.
+TEST(InitBadInput, CornerTemplateDoesNotFitABoxSeenAllAround) {
+  TempDir dir;
+  const SyntheticColmap s = MakeSyntheticColmap("box", dir.path(), false, 1);
+  InitOptions o = Options(s, dir);
+  o.template_kind = recon::InitTemplate::Corner;
+  EXPECT_TRUE(FailsWith([&] { InitScene(o); }, {"sparse: points3D", "corner template does not fit", "cameras stand between",
+                                                 "box or house template"}));
+  EXPECT_FALSE(std::filesystem::exists(dir / "scene/scene.json"));
+}
+
 TEST(InitBadInput, MissingOrWrongPhotograph) {
   TempDir dir;
   const SyntheticColmap s = MakeSyntheticColmap("box", dir.path(), false, 1);
