@@ -284,7 +284,8 @@ std::string InitJson(const InitOptions& o, const InitResult& r) {
 }
 
 std::string RelativeFolder(const fs::path& folder, const fs::path& output) {
-  return folder.lexically_relative(fs::absolute(output).lexically_normal()).generic_string() + "/";
+  const std::string relative = folder.lexically_relative(fs::absolute(output).lexically_normal()).generic_string();
+  return relative.ends_with('/') ? relative : relative + "/";  // `--images photos/` ends in one already
 }
 
 // `"max_side"` right after `"images"`, where a reader looks for how the photographs are used.

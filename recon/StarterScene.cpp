@@ -87,7 +87,8 @@ Json StarterSceneJson(InitTemplate kind, const StarterExtents& e, const std::str
   Json parameters = Json::object();
   const double top = e.hi.z();
   Json nodes = Json::array();
-  nodes.push_back(Json{{"name", "ground"}, {"primitive", "plane"}, {"transforms", {Scale(e.ground_size, e.ground_size, 1)}}});
+  const double ground = Round(e.ground_size);
+  nodes.push_back(Json{{"name", "ground"}, {"primitive", "plane"}, {"transforms", {Scale(ground, ground, 1)}}});
   if (kind == InitTemplate::Box) {
     FootprintParameters(e, parameters);
     parameters["h"] = Uniform(kSizeLo * top, kSizeHi * top, top);
