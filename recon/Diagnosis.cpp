@@ -178,13 +178,21 @@ Diagnosis Diagnose(const Scene& scene, const Evaluation& at_map, double sigma_25
   const nlohmann::json& calibration = summary.calibration;
   if (calibration.is_object() && calibration.contains("kappa_min") && calibration["kappa_min"].is_number()) {
     const double kappa_min = calibration["kappa_min"].get<double>();
+    const double kappa = calibration.value("kappa", 1.0), kappa_max = calibration.value("kappa_max", kappa);
+    const double dimension = double(std::max<size_t>(summary.parameters.size(), 1));
     // Still below once the calibration has settled (NoiseCalibration.h, optimiser/Settle.cpp):
-    // the intervals may be too narrow.
+    // the curvature is too large somewhere, and κ, the mean of the eigenvalues, too small —
+    // unless one eigenvalue makes nearly all of it: then one ill-measured direction widens
+    // every interval towards its prior (Merton's corner at one seed: 648,256 of 7 × 93,047).
     if (kappa_min < kMinSandwichEigenvalue) {
-      other.push_back(Format("the curvature measured at the mode is doubtful (the sandwich's smallest eigenvalue is "
-                             "%.2f, below 1): kappa may be too small and the intervals too narrow; run again with "
-                             "another sampler.seed",
-                             kappa_min));
+      const bool one_direction = dimension >= 2.0 && kappa_max >= 0.9 * dimension * kappa;
+      other.push_back(one_direction
+          ? Format("the curvature measured at the mode is doubtful (the sandwich's eigenvalues run from %.2f to %.0f, "
+                   "and the largest alone makes most of kappa = %.0f): the intervals may be far too wide; run again "
+                   "with another sampler.seed", kappa_min, kappa_max, kappa)
+          : Format("the curvature measured at the mode is doubtful (the sandwich's smallest eigenvalue is "
+                   "%.2f, below 1): kappa may be too small and the intervals too narrow; run again with "
+                   "another sampler.seed", kappa_min));
       Worsen(&d, Diagnosis::Verdict::Unsettled);
     }
   }

@@ -75,6 +75,29 @@ TEST(Diagnosis, OkOnlyWhenResidualsLookLikeNoiseAndChainsAgree) {
   EXPECT_TRUE(d.notes.empty());
 }
 
+// A sandwich eigenvalue below 1 doubts κ; which way the intervals err depends on whether
+// the smallest pulls κ down or one huge eigenvalue makes nearly all of it.
+TEST(Diagnosis, DoubtfulCurvatureSaysWhichWayTheIntervalsErr) {
+  Inputs in;
+  for (const char* name : {"x", "y"}) {
+    opt::ParameterSummary p = in.summary.parameters[0];
+    p.name = name;
+    in.summary.parameters.push_back(p);
+  }
+  in.summary.calibration = {{"kappa", 5.0}, {"kappa_min", 0.5}, {"kappa_max", 8.0}};
+  Diagnosis d = in.Run();
+  EXPECT_EQ(d.json["verdict"], "unsettled");
+  EXPECT_TRUE(Mentions(d, "smallest eigenvalue is 0.50, below 1): kappa may be too small and the intervals too narrow"));
+  in.summary.calibration = {{"kappa", 50.0}, {"kappa_min", 0.5}, {"kappa_max", 140.0}};
+  d = in.Run();
+  EXPECT_EQ(d.json["verdict"], "unsettled");
+  EXPECT_TRUE(Mentions(d, "eigenvalues run from 0.50 to 140, and the largest alone makes most of kappa = 50): "
+                          "the intervals may be far too wide"));
+  EXPECT_FALSE(Mentions(d, "too narrow"));
+  in.summary.calibration = {{"kappa", 50.0}, {"kappa_min", 2.0}, {"kappa_max", 140.0}};
+  EXPECT_FALSE(Mentions(in.Run(), "doubtful"));
+}
+
 TEST(Diagnosis, JudgesTheConstraintByTheSdTheRunStates) {
   // The chains' sd, 0.156, is more than half the uniform prior's 1/√12 ≈ 0.289; stated at the
   // noise's κ, a quarter of the sandwich's, it is 0.078: constrained.
