@@ -394,13 +394,14 @@ const char* ToString(InitTemplate t) {
   switch (t) {
     case InitTemplate::Box: return "box";
     case InitTemplate::House: return "house";
+    case InitTemplate::Cylinder: return "cylinder";
     case InitTemplate::Corner: return "corner";
   }
   return "?";
 }
 
 bool FromString(const std::string& text, InitTemplate* t) {
-  for (InitTemplate k : {InitTemplate::Box, InitTemplate::House, InitTemplate::Corner})
+  for (InitTemplate k : {InitTemplate::Box, InitTemplate::House, InitTemplate::Cylinder, InitTemplate::Corner})
     if (text == ToString(k)) return *t = k, true;
   return false;
 }

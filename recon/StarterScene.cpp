@@ -103,6 +103,17 @@ Json StarterSceneJson(InitTemplate kind, const StarterExtents& e, const std::str
                          {"parent", "walls"},
                          {"primitive", "prism"},
                          {"transforms", {Json{{"translate", {0, 0, 1}}}, Scale(1, 1, "rh/h")}}});
+  } else if (kind == InitTemplate::Cylinder) {
+    // The footprint's sides both span the diameter; the robust box undershoots it a little.
+    const Eigen::Vector3d size = e.hi - e.lo, centre = 0.5 * (e.hi + e.lo);
+    const double across = 0.5 * (size.x() + size.y()), reach = 0.25 * across;
+    parameters["x"] = Uniform(centre.x() - reach, centre.x() + reach, centre.x());
+    parameters["y"] = Uniform(centre.y() - reach, centre.y() + reach, centre.y());
+    parameters["diameter"] = Uniform(kSizeLo * across, kSizeHi * across, across);
+    parameters["height"] = Uniform(kSizeLo * top, kSizeHi * top, top);
+    nodes.push_back(Json{{"name", "column"},
+                         {"primitive", "cylinder"},
+                         {"transforms", {Json{{"translate", {"x", "y", 0}}}, Scale("diameter", "diameter", "height")}}});
   } else {
     CornerParameters(e.corner.value(), parameters);
     // As the house's: the points' top may be a roof's ridge above the walls.

@@ -142,7 +142,9 @@ INSTANTIATE_TEST_SUITE_P(Assets, InitOnAsset,
                                            AssetCase{"focal", InitTemplate::Box, true, 5},
                                            AssetCase{"crate_clutter", InitTemplate::Box, false, 6},
                                            AssetCase{"box", InitTemplate::Box, true, 7, true},
-                                           AssetCase{"house", InitTemplate::House, false, 8, true}),
+                                           AssetCase{"house", InitTemplate::House, false, 8, true},
+                                           AssetCase{"house_annex", InitTemplate::House, true, 9},
+                                           AssetCase{"poster", InitTemplate::Cylinder, false, 10}),
                          [](const auto& info) {
                            return std::string(info.param.asset) + (info.param.binary ? "_binary" : "_text") +
                                   (info.param.background ? "_background" : "");
