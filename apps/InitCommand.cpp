@@ -42,7 +42,7 @@ int RunInit(int argc, char** argv) {
   app.add_option("--images", images,
                  "the photographs the model's image names are relative to (default: SPARSE/../images, or "
                  "SPARSE/../../images for project/sparse/0)");
-  app.add_option("--template", template_name, "the starter scene: box (x y yaw w d h), house (walls and a roof: + rh), cylinder (x y diameter height) or corner (two walls meeting in an inside corner the cameras look into: xc yc yaw angle h)")
+  app.add_option("--template", template_name, "the starter scene: box (x y yaw w d h), house (walls and a roof: + rh), cylinder (x y diameter height), stairs (four steps: x y yaw width run rise) or corner (two walls meeting in an inside corner the cameras look into: xc yc yaw angle h)")
       ->capture_default_str();
   app.add_option("--up", up, "X,Y,Z: up in the model's frame, instead of the cameras' mean up (COLMAP: -y of the images)");
   app.add_option("--scale-points", scale_points,
@@ -60,7 +60,7 @@ int RunInit(int argc, char** argv) {
   options.output = output;
   options.images = images;
   if (!recon::FromString(template_name, &options.template_kind))
-    throw InputError("", "--template", "unknown template '" + template_name + "' (box, house, cylinder, corner)");
+    throw InputError("", "--template", "unknown template '" + template_name + "' (box, house, cylinder, stairs, corner)");
   if (!up.empty()) options.up = ParseUp(up);
   if (!scale_points.empty()) options.scale = recon::ParseScalePoints(scale_points);
   const recon::InitResult result = recon::InitScene(options);

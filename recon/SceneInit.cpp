@@ -326,7 +326,7 @@ double GroundSize(const std::vector<Vec3>& ground, const Vec3& lo, const Vec3& h
 
 // The corner template's walls, from the points below half the top (above the eaves, roofs
 // lean back over the walls and would blur their lines in the footprint).
-CornerFit Corner(const InitOptions& o, const ColmapReconstruction& model, const SceneFrame& f,
+CornerFit FitCornerOrRefuse(const InitOptions& o, const ColmapReconstruction& model, const SceneFrame& f,
                  const std::vector<Vec3>& above, double top, double model_tolerance) {
   std::vector<Eigen::Vector2d> footprint, cameras;
   for (const Vec3& x : above)
@@ -384,8 +384,10 @@ InitResult InitScene(const InitOptions& o) {
   r.scale = f.scale;
   r.metres = o.scale.has_value();
   r.scene_from_model = f.Matrix();
-  StarterExtents extents{r.lo, r.hi, GroundSize(on, r.lo, r.hi), std::nullopt};
-  if (o.template_kind == InitTemplate::Corner) extents.corner = Corner(o, model, f, above, r.hi.z(), go.tolerance);
+  StarterExtents extents{r.lo, r.hi, GroundSize(on, r.lo, r.hi), std::nullopt, std::nullopt};
+  if (o.template_kind == InitTemplate::Corner) extents.corner = FitCornerOrRefuse(o, model, f, above, r.hi.z(), go.tolerance);
+  if (o.template_kind == InitTemplate::Stairs && !(extents.stairs = FitStairs(above)))
+    throw InputError(Shown(o.sparse), "points3D", "the stairs template does not fit: the points above the ground do not rise one way");
   WriteOutputs(o, model, f, extents, r);
   return r;
 }
@@ -395,13 +397,15 @@ const char* ToString(InitTemplate t) {
     case InitTemplate::Box: return "box";
     case InitTemplate::House: return "house";
     case InitTemplate::Cylinder: return "cylinder";
+    case InitTemplate::Stairs: return "stairs";
     case InitTemplate::Corner: return "corner";
   }
   return "?";
 }
 
 bool FromString(const std::string& text, InitTemplate* t) {
-  for (InitTemplate k : {InitTemplate::Box, InitTemplate::House, InitTemplate::Cylinder, InitTemplate::Corner})
+  for (InitTemplate k : {InitTemplate::Box, InitTemplate::House, InitTemplate::Cylinder, InitTemplate::Stairs,
+                         InitTemplate::Corner})
     if (text == ToString(k)) return *t = k, true;
   return false;
 }

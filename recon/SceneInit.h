@@ -15,9 +15,10 @@ namespace vkr::recon {
 
 // The starter scenes `init` writes: a box on the ground (x y yaw w d h, as assets/box), a
 // house, walls box + roof prism (x y yaw w d h rh, as assets/house), a standing cylinder
-// (x y diameter height, as assets/poster), or two walls meeting in an inside corner that the
-// cameras look into (xc yc yaw angle h, CornerFit.h).
-enum class InitTemplate { Box, House, Cylinder, Corner };
+// (x y diameter height, as assets/poster), four steps (x y yaw width run rise, as
+// assets/stairs, StairsFit.h), or two walls meeting in an inside corner that the cameras look
+// into (xc yc yaw angle h, CornerFit.h).
+enum class InitTemplate { Box, House, Cylinder, Stairs, Corner };
 const char* ToString(InitTemplate t);
 bool FromString(const std::string& text, InitTemplate* t);
 

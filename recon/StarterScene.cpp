@@ -77,6 +77,67 @@ void CornerParameters(const CornerFit& c, Json& parameters) {
   parameters["angle"] = Uniform(c.angle_deg - 15.0, c.angle_deg + 15.0, c.angle_deg);
 }
 
+// Four steps up the stairs' local +y from the front edge at (x, y), as assets/stairs: step k
+// is `run` deep and (k + 1)·`rise` high. Other flights need steps added or removed, and
+// run's and rise's priors scaled to match.
+void AddStairs(const StairsFit& s, double top, Json& parameters, Json& nodes) {
+  constexpr int kSteps = 4;
+  const double reach = 0.25 * std::max(s.width, s.depth), run = s.depth / kSteps, rise = top / kSteps;
+  parameters["x"] = Uniform(s.front.x() - reach, s.front.x() + reach, s.front.x());
+  parameters["y"] = Uniform(s.front.y() - reach, s.front.y() + reach, s.front.y());
+  parameters["yaw"] = Uniform(s.yaw_deg - 30.0, s.yaw_deg + 30.0, s.yaw_deg);
+  parameters["width"] = Uniform(kSizeLo * s.width, kSizeHi * s.width, s.width);
+  parameters["run"] = Uniform(kSizeLo * run, kSizeHi * run, run);
+  parameters["rise"] = Uniform(kSizeLo * rise, kSizeHi * rise, rise);
+  nodes.push_back(Json{{"name", "stairs"}, {"transforms", {Json{{"translate", {"x", "y", 0}}}, Json{{"rotate", {0, 0, "yaw"}}}}}});
+  for (int k = 0; k < kSteps; ++k) {
+    const std::string along = std::to_string(k) + ".5*run", height = k == 0 ? "rise" : std::to_string(k + 1) + "*rise";
+    nodes.push_back(Json{{"name", "step" + std::to_string(k)},
+                         {"parent", "stairs"},
+                         {"primitive", "box"},
+                         {"transforms", {Json{{"translate", {0, along, 0}}}, Scale("width", "run", height)}}});
+  }
+}
+
+void AddBox(const StarterExtents& e, Json& parameters, Json& nodes) {
+  FootprintParameters(e, parameters);
+  parameters["h"] = Uniform(kSizeLo * e.hi.z(), kSizeHi * e.hi.z(), e.hi.z());
+  nodes.push_back(Walls("box"));
+}
+
+void AddHouse(const StarterExtents& e, Json& parameters, Json& nodes) {
+  FootprintParameters(e, parameters);
+  // The points' top is the ridge: the eaves lie somewhere below it, the roof above them.
+  const double top = e.hi.z();
+  parameters["h"] = Uniform(0.25 * top, 1.05 * top, 0.6 * top);
+  parameters["rh"] = Uniform(0.05 * top, 0.75 * top, 0.4 * top);
+  nodes.push_back(Walls("walls"));
+  nodes.push_back(Json{{"name", "roof"},
+                       {"parent", "walls"},
+                       {"primitive", "prism"},
+                       {"transforms", {Json{{"translate", {0, 0, 1}}}, Scale(1, 1, "rh/h")}}});
+}
+
+void AddCylinder(const StarterExtents& e, Json& parameters, Json& nodes) {
+  // The footprint's sides both span the diameter; the robust box undershoots it a little.
+  const Eigen::Vector3d size = e.hi - e.lo, centre = 0.5 * (e.hi + e.lo);
+  const double across = 0.5 * (size.x() + size.y()), reach = 0.25 * across;
+  parameters["x"] = Uniform(centre.x() - reach, centre.x() + reach, centre.x());
+  parameters["y"] = Uniform(centre.y() - reach, centre.y() + reach, centre.y());
+  parameters["diameter"] = Uniform(kSizeLo * across, kSizeHi * across, across);
+  parameters["height"] = Uniform(kSizeLo * e.hi.z(), kSizeHi * e.hi.z(), e.hi.z());
+  nodes.push_back(Json{{"name", "column"},
+                       {"primitive", "cylinder"},
+                       {"transforms", {Json{{"translate", {"x", "y", 0}}}, Scale("diameter", "diameter", "height")}}});
+}
+
+void AddCorner(const StarterExtents& e, Json& parameters, Json& nodes) {
+  CornerParameters(e.corner.value(), parameters);
+  // As the house's: the points' top may be a roof's ridge above the walls.
+  parameters["h"] = Uniform(0.25 * e.hi.z(), 1.05 * e.hi.z(), 0.6 * e.hi.z());
+  CornerNodes(e.corner.value(), nodes);
+}
+
 }  // namespace
 
 Json StarterSceneJson(InitTemplate kind, const StarterExtents& e, const std::string& images,
@@ -85,40 +146,15 @@ Json StarterSceneJson(InitTemplate kind, const StarterExtents& e, const std::str
   if (masks) scene["masks"] = *masks;
   scene["cameras"] = "cameras.json";
   Json parameters = Json::object();
-  const double top = e.hi.z();
   Json nodes = Json::array();
   const double ground = Round(e.ground_size);
   nodes.push_back(Json{{"name", "ground"}, {"primitive", "plane"}, {"transforms", {Scale(ground, ground, 1)}}});
-  if (kind == InitTemplate::Box) {
-    FootprintParameters(e, parameters);
-    parameters["h"] = Uniform(kSizeLo * top, kSizeHi * top, top);
-    nodes.push_back(Walls("box"));
-  } else if (kind == InitTemplate::House) {
-    FootprintParameters(e, parameters);
-    // The points' top is the ridge: the eaves lie somewhere below it, the roof above them.
-    parameters["h"] = Uniform(0.25 * top, 1.05 * top, 0.6 * top);
-    parameters["rh"] = Uniform(0.05 * top, 0.75 * top, 0.4 * top);
-    nodes.push_back(Walls("walls"));
-    nodes.push_back(Json{{"name", "roof"},
-                         {"parent", "walls"},
-                         {"primitive", "prism"},
-                         {"transforms", {Json{{"translate", {0, 0, 1}}}, Scale(1, 1, "rh/h")}}});
-  } else if (kind == InitTemplate::Cylinder) {
-    // The footprint's sides both span the diameter; the robust box undershoots it a little.
-    const Eigen::Vector3d size = e.hi - e.lo, centre = 0.5 * (e.hi + e.lo);
-    const double across = 0.5 * (size.x() + size.y()), reach = 0.25 * across;
-    parameters["x"] = Uniform(centre.x() - reach, centre.x() + reach, centre.x());
-    parameters["y"] = Uniform(centre.y() - reach, centre.y() + reach, centre.y());
-    parameters["diameter"] = Uniform(kSizeLo * across, kSizeHi * across, across);
-    parameters["height"] = Uniform(kSizeLo * top, kSizeHi * top, top);
-    nodes.push_back(Json{{"name", "column"},
-                         {"primitive", "cylinder"},
-                         {"transforms", {Json{{"translate", {"x", "y", 0}}}, Scale("diameter", "diameter", "height")}}});
-  } else {
-    CornerParameters(e.corner.value(), parameters);
-    // As the house's: the points' top may be a roof's ridge above the walls.
-    parameters["h"] = Uniform(0.25 * top, 1.05 * top, 0.6 * top);
-    CornerNodes(e.corner.value(), nodes);
+  switch (kind) {
+    case InitTemplate::Box: AddBox(e, parameters, nodes); break;
+    case InitTemplate::House: AddHouse(e, parameters, nodes); break;
+    case InitTemplate::Cylinder: AddCylinder(e, parameters, nodes); break;
+    case InitTemplate::Stairs: AddStairs(e.stairs.value(), e.hi.z(), parameters, nodes); break;
+    case InitTemplate::Corner: AddCorner(e, parameters, nodes); break;
   }
   scene["parameters"] = parameters;
   scene["nodes"] = nodes;

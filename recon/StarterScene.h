@@ -12,6 +12,7 @@
 
 #include "recon/CornerFit.h"
 #include "recon/SceneInit.h"
+#include "recon/StairsFit.h"
 
 namespace vkr::recon {
 
@@ -20,6 +21,7 @@ struct StarterExtents {
   Eigen::Vector3d lo, hi;   // robust box of the points above the ground
   double ground_size = 1.0;  // side of the ground plane node
   std::optional<CornerFit> corner;  // the corner template's walls
+  std::optional<StairsFit> stairs;  // the stairs template's flight
 };
 
 // scene.json of `kind`: parameters with uniform priors and inits from `extents`, the ground and

@@ -76,6 +76,14 @@ TEST(InitBadInput, CornerTemplateDoesNotFitABoxSeenAllAround) {
   EXPECT_FALSE(std::filesystem::exists(dir / "scene/scene.json"));
 }
 
+TEST(InitBadInput, StairsTemplateDoesNotFitABox) {
+  TempDir dir;
+  const SyntheticColmap s = MakeSyntheticColmap("box", dir.path(), true, 2);
+  InitOptions o = Options(s, dir);
+  o.template_kind = recon::InitTemplate::Stairs;
+  EXPECT_TRUE(FailsWith([&] { InitScene(o); }, {"sparse: points3D", "stairs template does not fit", "do not rise one way"}));
+}
+
 TEST(InitBadInput, MissingOrWrongPhotograph) {
   TempDir dir;
   const SyntheticColmap s = MakeSyntheticColmap("box", dir.path(), false, 1);

@@ -43,13 +43,14 @@ FreeMotion FitFreeMotion(const std::vector<Camera>& truth, const std::vector<Cam
 }
 
 // The truth's footprint parameters in the scene frame. A box's yaw is the same modulo 90° with w
-// and d swapped; a house's only modulo 180°.
-std::map<std::string, double> TruthInScene(const SyntheticColmap& s, const FreeMotion& m, bool box) {
+// and d swapped; a house's only modulo 180°, stairs' (the way up) modulo 360°.
+std::map<std::string, double> TruthInScene(const SyntheticColmap& s, const FreeMotion& m, InitTemplate kind) {
+  const bool box = kind == InitTemplate::Box;
   std::map<std::string, double> v;
   for (size_t i = 0; i < s.scene.parameters.size(); ++i) v[s.scene.parameters[i].name] = s.truth[i];
   const Eigen::Vector2d xy = m.Apply({v["x"], v["y"]});
   v["x"] = xy.x(), v["y"] = xy.y();
-  double yaw = std::remainder(v["yaw"] + m.yaw * 180.0 / M_PI, 180.0);
+  double yaw = std::remainder(v["yaw"] + m.yaw * 180.0 / M_PI, kind == InitTemplate::Stairs ? 360.0 : 180.0);
   if (box && std::abs(yaw) > 45.0) yaw -= std::copysign(90.0, yaw), std::swap(v["w"], v["d"]);
   v["yaw"] = yaw;
   return v;
@@ -124,7 +125,7 @@ TEST_P(InitOnAsset, GroundCamerasAndPriors) {
     EXPECT_EQ(cameras[i].K, s.cameras[i].K);
   }
 
-  const std::map<std::string, double> truth = TruthInScene(s, m, c.kind == InitTemplate::Box);
+  const std::map<std::string, double> truth = TruthInScene(s, m, c.kind);
   for (const Parameter& p : scene.parameters) {
     ASSERT_TRUE(truth.count(p.name)) << p.name;
     const double v = truth.at(p.name);
@@ -144,7 +145,9 @@ INSTANTIATE_TEST_SUITE_P(Assets, InitOnAsset,
                                            AssetCase{"box", InitTemplate::Box, true, 7, true},
                                            AssetCase{"house", InitTemplate::House, false, 8, true},
                                            AssetCase{"house_annex", InitTemplate::House, true, 9},
-                                           AssetCase{"poster", InitTemplate::Cylinder, false, 10}),
+                                           AssetCase{"poster", InitTemplate::Cylinder, false, 10},
+                                           AssetCase{"stairs", InitTemplate::Stairs, true, 11},
+                                           AssetCase{"stairs", InitTemplate::Stairs, false, 12}),
                          [](const auto& info) {
                            return std::string(info.param.asset) + (info.param.binary ? "_binary" : "_text") +
                                   (info.param.background ? "_background" : "");
