@@ -25,6 +25,7 @@ constexpr double kOutlierShare = 0.08;     // of a node's view samples
 constexpr double kNodeChi2PerDof = 1.6;    // a node's χ² against what noise alone gives
 constexpr double kMinNodeShare = 0.01;     // nodes with fewer compared texels are not judged
 constexpr double kRhat = 1.1;              // chains that disagree more have not converged
+constexpr double kNearPriorEnd = 0.05;    // of a uniform prior's width: a MAP this close to an end
 // Clutter masks (ClutterMasks.h) keep only regions of outliers, which noise alone does not
 // make; a few pixels along silhouettes are still masked on the bundled assets at their truth.
 constexpr double kClutterShare = 0.02;
@@ -136,6 +137,12 @@ Diagnosis Diagnose(const Scene& scene, const Evaluation& at_map, double sigma_25
     if (sd > 0.5 * prior_sd)
       other.push_back(p.name + Format(" is barely constrained by the images (posterior sd %g against the prior's %g)",
                                       sd, prior_sd));
+    // Pressed against a uniform prior's end, the MAP may be the prior's, not the photographs'
+    // (Merton's roof pitches at one seed). A note, not a verdict: some ends are physical.
+    if (uniform && std::min(p.map - prior.a, prior.b - p.map) < kNearPriorEnd * (prior.b - prior.a))
+      other.push_back(p.name + Format("'s MAP %g lies at its prior's end [%g, %g]: the photographs may want a value "
+                                      "beyond it; widen the prior, or model what pulls it there",
+                                      p.map, prior.a, prior.b));
     if (p.rhat > kRhat) {
       other.push_back(p.name + Format(": the chains disagree (R-hat %.3f); run longer", p.rhat));
       Worsen(&d, Diagnosis::Verdict::Unsettled);

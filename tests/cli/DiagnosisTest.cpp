@@ -33,6 +33,7 @@ struct Inputs {
     at_map.scalars.seen_once = 50;
     opt::ParameterSummary p;
     p.name = "w";
+    p.map = 0.5;
     p.sd = 0.01;
     p.rhat = 1.01;
     summary.parameters.push_back(p);
@@ -96,6 +97,20 @@ TEST(Diagnosis, DoubtfulCurvatureSaysWhichWayTheIntervalsErr) {
   EXPECT_FALSE(Mentions(d, "too narrow"));
   in.summary.calibration = {{"kappa", 50.0}, {"kappa_min", 2.0}, {"kappa_max", 140.0}};
   EXPECT_FALSE(Mentions(in.Run(), "doubtful"));
+}
+
+// A MAP in the outer twentieth of its uniform prior gets a note (the prior may have cut the
+// photographs' answer off), but no verdict: some ends are physical.
+TEST(Diagnosis, AMapAtItsPriorsEndIsNoted) {
+  Inputs in;
+  in.summary.parameters[0].map = 0.97;  // w's prior is [0, 1]
+  Diagnosis d = in.Run();
+  EXPECT_TRUE(d.ok());
+  EXPECT_TRUE(Mentions(d, "w's MAP 0.97 lies at its prior's end [0, 1]: the photographs may want a value beyond it"));
+  in.summary.parameters[0].map = 0.94;
+  EXPECT_FALSE(Mentions(in.Run(), "prior's end"));
+  in.summary.parameters[0].map = 0.02;
+  EXPECT_TRUE(Mentions(in.Run(), "w's MAP 0.02 lies at its prior's end"));
 }
 
 TEST(Diagnosis, JudgesTheConstraintByTheSdTheRunStates) {
