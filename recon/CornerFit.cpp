@@ -1,8 +1,10 @@
 #include "recon/CornerFit.h"
 
 #include <Eigen/Dense>
+#include <algorithm>
 #include <cmath>
 #include <random>
+#include <utility>
 
 #include "optimiser/Statistics.h"
 
