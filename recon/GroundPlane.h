@@ -28,8 +28,8 @@ struct GroundPlaneOptions {
   double min_inlier_share = 0.03;
   int min_inliers = 10;
   // Enough triples to draw three points of a plane that holds 3 % of the cloud with 98 %
-  // probability: the path along the walls' feet in Merton's courtyard holds 5–6 % of what
-  // COLMAP triangulates, and 40,000 triples missed it in one of three calibrations.
+  // probability. The path along the walls' feet in Merton's courtyard holds 5–6 % of what
+  // COLMAP triangulates: at 5 % and 40,000 triples one of three calibrations had no ground.
   int iterations = 150000;
   // RANSAC counts each plane's support on an even subsample of at most this many points;
   // the refit counts all of them.

@@ -327,7 +327,7 @@ double GroundSize(const std::vector<Vec3>& ground, const Vec3& lo, const Vec3& h
 // The corner template's walls, from the points below half the top (above the eaves, roofs
 // lean back over the walls and would blur their lines in the footprint).
 CornerFit FitCornerOrRefuse(const InitOptions& o, const ColmapReconstruction& model, const SceneFrame& f,
-                 const std::vector<Vec3>& above, double top, double model_tolerance) {
+                            const std::vector<Vec3>& above, double top, double model_tolerance) {
   std::vector<Eigen::Vector2d> footprint, cameras;
   for (const Vec3& x : above)
     if (x.z() <= 0.5 * top) footprint.push_back(x.head<2>());

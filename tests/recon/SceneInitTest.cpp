@@ -135,6 +135,18 @@ TEST_P(InitOnAsset, GroundCamerasAndPriors) {
   EXPECT_NE(ReadText(dir / "scene/points.ply").find("element vertex " + vertices + "\n"), std::string::npos);
 }
 
+// A ground is weak when it leans far from how the photographs were held or stands on few
+// points, not because a building's ground holds a small share of them (Merton: 5 %).
+TEST(InitReport, WarnsOfAWeakGroundOnlyWhenItLeansOrHasFewPoints) {
+  recon::InitResult r;
+  r.points = 2627, r.ground_inliers = 133, r.up_vs_cameras_deg = 3.0;
+  EXPECT_EQ(r.BriefReport().find("weak ground"), std::string::npos) << r.BriefReport();
+  r.ground_inliers = 40;
+  EXPECT_NE(r.BriefReport().find("warning: a weak ground"), std::string::npos);
+  r.ground_inliers = 133, r.up_vs_cameras_deg = 25.0;
+  EXPECT_NE(r.BriefReport().find("warning: a weak ground"), std::string::npos);
+}
+
 INSTANTIATE_TEST_SUITE_P(Assets, InitOnAsset,
                          ::testing::Values(AssetCase{"box", InitTemplate::Box, false, 1},
                                            AssetCase{"box", InitTemplate::Box, true, 2},
