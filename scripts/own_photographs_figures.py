@@ -3,10 +3,10 @@
 
     scripts/own_photographs_figures.py out/merton docs/figures [RUN]
 
-reads WORK/photos, WORK/scene (init's cameras.json, points.ply, scene.json),
-WORK/preview and WORK/preview_roofs (preview overlays before and after the edit), WORK/RUN (default run:
-the fit's overlays and
-its report) and WORK/views (`vkrecon render --orbit 8` of the fitted model), and writes own_photographs_*.{jpg,png} into FIGURES.
+Reads WORK/photos; WORK/scene (init's cameras.json, points.ply, scene.json); WORK/preview and
+WORK/preview_roofs (the overlays before and after the edit); WORK/RUN (default run: the fit's
+overlays and its report); WORK/views (`vkrecon render --orbit 8` of the fitted model). Writes
+own_photographs_*.jpg (photographs) and *.png (a plot, a page) into FIGURES.
 """
 import json
 import math
@@ -65,9 +65,11 @@ def top_view(scene_dir, out):
     fig, ax = plt.subplots(figsize=(5.6, 5.6), dpi=100)
     keep = (xyz[:, 2] > -1.0) & (np.abs(xyz[:, 0]) < 40) & (np.abs(xyz[:, 1]) < 40)
     ax.scatter(xyz[keep, 0], xyz[keep, 1], s=2, c=rgb[keep], linewidths=0)
+    lowest = np.inf
     for c in cameras:
         R, t = np.array(c["R"]), np.array(c["t"])
         centre = -R.T @ t
+        lowest = min(lowest, centre[1])
         forward = R.T @ np.array([0.0, 0.0, 1.0])
         ax.plot(centre[0], centre[1], "^", color="crimson")
         ax.annotate(c["name"], centre[:2], textcoords="offset points", xytext=(6, -10), fontsize=8)
@@ -81,7 +83,7 @@ def top_view(scene_dir, out):
     ax.plot(*corner, "o", color="gold")
     ax.set_aspect("equal")
     ax.set_xlim(corner[0] - 22, corner[0] + 22)
-    ax.set_ylim(min(c[1] for c in ax.get_lines()[0].get_xydata()) - 6, corner[1] + 10)
+    ax.set_ylim(lowest - 6, corner[1] + 10)
     ax.set_xlabel("x (COLMAP's units)")
     ax.set_ylabel("y")
     ax.set_title("points.ply from above: the cameras and\nthe corner template's walls at their starting values", fontsize=10)
@@ -115,7 +117,7 @@ def main():
         shot = Path(tmp) / "report.png"
         subprocess.run([str(Path(__file__).parent / "report_screenshot.sh"), str(run / "report.html"), str(shot)], check=True)
         crop(shot, figures / "own_photographs_report.png", box=(0, 0, 1280, 1130), width=800)
-    # Of `render --orbit 8`'s views, the sixth looks into the corner from the lawn.
+    # Of `render --orbit 8`'s views, 006 looks into the corner from the lawn.
     crop(work / "views/006.png", figures / "own_photographs_view.jpg")
 
 
