@@ -28,17 +28,23 @@ Json Uniform(double lo, double hi, double init) {
   return Json{{"prior", {{"uniform", {Round(lo), Round(hi)}}}}, {"init", Round(init)}};
 }
 
+// A guess within ±reach of it.
+Json Around(double guess, double reach) { return Uniform(guess - reach, guess + reach, guess); }
+
+// A size measured from the points, which undershoot it: 0.5–1.6 times it.
+Json Extent(double measured) { return Uniform(kSizeLo * measured, kSizeHi * measured, measured); }
+
 // x y yaw w d: the footprint. The origin is under the points' median, +x along their
 // principal axis, so the footprint's centre is near 0 and its long side near yaw 0; ±45°
 // covers a footprint whose sides the principal axis does not follow.
 void FootprintParameters(const StarterExtents& e, Json& parameters) {
   const Eigen::Vector3d size = e.hi - e.lo, centre = 0.5 * (e.hi + e.lo);
   const double reach = 0.25 * std::max(size.x(), size.y());
-  parameters["x"] = Uniform(centre.x() - reach, centre.x() + reach, centre.x());
-  parameters["y"] = Uniform(centre.y() - reach, centre.y() + reach, centre.y());
+  parameters["x"] = Around(centre.x(), reach);
+  parameters["y"] = Around(centre.y(), reach);
   parameters["yaw"] = Uniform(-45.0, 45.0, 0.0);
-  parameters["w"] = Uniform(kSizeLo * size.x(), kSizeHi * size.x(), size.x());
-  parameters["d"] = Uniform(kSizeLo * size.y(), kSizeHi * size.y(), size.y());
+  parameters["w"] = Extent(size.x());
+  parameters["d"] = Extent(size.y());
 }
 
 Json Scale(Json x, Json y, Json z) { return Json{{"scale", {x, y, z}}}; }
@@ -71,10 +77,10 @@ void CornerNodes(const CornerFit& c, Json& nodes) {
 // wall, 10° and 15° of what the points say.
 void CornerParameters(const CornerFit& c, Json& parameters) {
   const double reach = 0.05 * std::max(c.length_a, c.length_b);
-  parameters["xc"] = Uniform(c.corner.x() - reach, c.corner.x() + reach, c.corner.x());
-  parameters["yc"] = Uniform(c.corner.y() - reach, c.corner.y() + reach, c.corner.y());
-  parameters["yaw"] = Uniform(c.yaw_deg - 10.0, c.yaw_deg + 10.0, c.yaw_deg);
-  parameters["angle"] = Uniform(c.angle_deg - 15.0, c.angle_deg + 15.0, c.angle_deg);
+  parameters["xc"] = Around(c.corner.x(), reach);
+  parameters["yc"] = Around(c.corner.y(), reach);
+  parameters["yaw"] = Around(c.yaw_deg, 10.0);
+  parameters["angle"] = Around(c.angle_deg, 15.0);
 }
 
 // Four steps up the stairs' local +y from the front edge at (x, y), as assets/stairs: step k
@@ -83,12 +89,12 @@ void CornerParameters(const CornerFit& c, Json& parameters) {
 void AddStairs(const StairsFit& s, double top, Json& parameters, Json& nodes) {
   constexpr int kSteps = 4;
   const double reach = 0.25 * std::max(s.width, s.depth), run = s.depth / kSteps, rise = top / kSteps;
-  parameters["x"] = Uniform(s.front.x() - reach, s.front.x() + reach, s.front.x());
-  parameters["y"] = Uniform(s.front.y() - reach, s.front.y() + reach, s.front.y());
-  parameters["yaw"] = Uniform(s.yaw_deg - 30.0, s.yaw_deg + 30.0, s.yaw_deg);
-  parameters["width"] = Uniform(kSizeLo * s.width, kSizeHi * s.width, s.width);
-  parameters["run"] = Uniform(kSizeLo * run, kSizeHi * run, run);
-  parameters["rise"] = Uniform(kSizeLo * rise, kSizeHi * rise, rise);
+  parameters["x"] = Around(s.front.x(), reach);
+  parameters["y"] = Around(s.front.y(), reach);
+  parameters["yaw"] = Around(s.yaw_deg, 30.0);
+  parameters["width"] = Extent(s.width);
+  parameters["run"] = Extent(run);
+  parameters["rise"] = Extent(rise);
   nodes.push_back(Json{{"name", "stairs"}, {"transforms", {Json{{"translate", {"x", "y", 0}}}, Json{{"rotate", {0, 0, "yaw"}}}}}});
   for (int k = 0; k < kSteps; ++k) {
     const std::string along = std::to_string(k) + ".5*run", height = k == 0 ? "rise" : std::to_string(k + 1) + "*rise";
@@ -101,7 +107,7 @@ void AddStairs(const StairsFit& s, double top, Json& parameters, Json& nodes) {
 
 void AddBox(const StarterExtents& e, Json& parameters, Json& nodes) {
   FootprintParameters(e, parameters);
-  parameters["h"] = Uniform(kSizeLo * e.hi.z(), kSizeHi * e.hi.z(), e.hi.z());
+  parameters["h"] = Extent(e.hi.z());
   nodes.push_back(Walls("box"));
 }
 
@@ -122,10 +128,10 @@ void AddCylinder(const StarterExtents& e, Json& parameters, Json& nodes) {
   // The footprint's sides both span the diameter; the robust box undershoots it a little.
   const Eigen::Vector3d size = e.hi - e.lo, centre = 0.5 * (e.hi + e.lo);
   const double across = 0.5 * (size.x() + size.y()), reach = 0.25 * across;
-  parameters["x"] = Uniform(centre.x() - reach, centre.x() + reach, centre.x());
-  parameters["y"] = Uniform(centre.y() - reach, centre.y() + reach, centre.y());
-  parameters["diameter"] = Uniform(kSizeLo * across, kSizeHi * across, across);
-  parameters["height"] = Uniform(kSizeLo * e.hi.z(), kSizeHi * e.hi.z(), e.hi.z());
+  parameters["x"] = Around(centre.x(), reach);
+  parameters["y"] = Around(centre.y(), reach);
+  parameters["diameter"] = Extent(across);
+  parameters["height"] = Extent(e.hi.z());
   nodes.push_back(Json{{"name", "column"},
                        {"primitive", "cylinder"},
                        {"transforms", {Json{{"translate", {"x", "y", 0}}}, Scale("diameter", "diameter", "height")}}});
