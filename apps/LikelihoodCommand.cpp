@@ -7,6 +7,7 @@
 #include "apps/Commands.h"
 #include "engine/common/InputError.h"
 #include "pipelines/likelihood/LikelihoodTool.h"
+#include "recon/SearchSetup.h"
 
 namespace fs = std::filesystem;
 
@@ -75,6 +76,11 @@ int RunLikelihood(int argc, char** argv) {
   options.at_file = at;
   options.chi2_correction = !no_correction;
   if (!dump.empty()) options.dump_dir = fs::path(dump);
+  {
+    LoadOptions load;
+    load.require_images = false;  // checked once, when the likelihood loads them
+    options.batch = recon::SamplerOptionsOf(LoadScene(options.scene_file, options.overrides, load)).batch;
+  }
   std::optional<SweepSpec> spec;
   if (!sweep.empty()) spec = ParseSweep(sweep);  // before the device: bad input fails fast
 

@@ -1,5 +1,6 @@
 #include "optimiser/SamplerOptions.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <set>
@@ -19,6 +20,8 @@ template <class Options, class F>
 void ForEachField(Options& o, F&& f) {
   f("iterations", o.iterations);
   f("until_converged", o.until_converged);
+  f("time_limit", o.time_limit);
+  f("batch", o.batch);
   f("target_rhat", o.target_rhat);
   f("target_ess", o.target_ess);
   f("max_iterations", o.max_iterations);
@@ -83,6 +86,9 @@ int SamplerOptions::CoarseIterations() const {
 bool SamplerOptions::IsValid(std::string* why) const {
   const auto fraction = [](double f) { return std::isfinite(f) && f >= 0.0 && f < 1.0; };
   if (iterations < 1) return OptionsFail(why, "iterations must be ≥ 1");
+  if (batch < 1 || batch > kMaxSamplerBatch)
+    return OptionsFail(why, "batch must lie in [1, " + std::to_string(kMaxSamplerBatch) + "]");
+  if (!(time_limit < 1e9)) return OptionsFail(why, "time_limit must be below 1e9 s");
   if (chains < 1) return OptionsFail(why, "chains must be ≥ 1");
   if (!(std::isfinite(target_rhat) && target_rhat > 1.0)) return OptionsFail(why, "target_rhat must be > 1");
   if (!(std::isfinite(target_ess) && target_ess > 0.0)) return OptionsFail(why, "target_ess must be > 0");
@@ -138,18 +144,45 @@ nlohmann::json ToJson(const SamplerOptions& options) {
     if constexpr (std::is_enum_v<T>) j[name] = ToString(field);
     else j[name] = field;
   });
+  if (options.time_limit < 0.0) j["time_limit"] = "auto";
+  else if (options.time_limit == 0.0) j["time_limit"] = "none";
   return j;
+}
+
+// The words FromJson reads before the numbers: "iterations": "auto" and the time limit's
+// "auto" and "none". Returns the object without them; `error` set when a word is unknown.
+nlohmann::json ReadWords(const nlohmann::json& json, SamplerOptions* out, std::string* error) {
+  nlohmann::json rest = json;
+  if (const auto it = json.find("iterations"); it != json.end() && it->is_string()) {
+    if (*it != "auto") *error = "sampler.iterations: expected an integer or \"auto\", got " + it->dump();
+    out->until_converged = true;
+    rest.erase("iterations");
+  } else if (it != json.end() && !json.contains("until_converged")) {
+    out->until_converged = false;  // a number of iterations is exactly that many
+  }
+  if (const auto it = json.find("time_limit"); it != json.end()) {
+    if (it->is_string() && (*it == "auto" || *it == "none")) {
+      out->time_limit = *it == "auto" ? -1.0 : 0.0;
+      rest.erase("time_limit");
+    } else if (!it->is_number() || !(it->get<double>() > 0.0)) {
+      *error = "sampler.time_limit: time limit " + it->dump() + " s must be > 0 (or \"none\", \"auto\")";
+    }
+  }
+  return rest;
 }
 
 bool FromJson(const nlohmann::json& json, SamplerOptions* options, std::string* why) {
   if (!json.is_object()) return OptionsFail(why, "sampler options must be a JSON object");
   SamplerOptions out = *options;
+  std::string word_error;
+  const nlohmann::json numbers = ReadWords(json, &out, &word_error);
+  if (!word_error.empty()) return OptionsFail(why, word_error);
   std::set<std::string> known;
   std::string error;
   ForEachField(out, [&](const char* name, auto& field) {
     known.insert(name);
-    const auto it = json.find(name);
-    if (it == json.end() || !error.empty()) return;
+    const auto it = numbers.find(name);
+    if (it == numbers.end() || !error.empty()) return;
     using T = std::decay_t<decltype(field)>;
     const std::string key = std::string("sampler.") + name;
     if constexpr (std::is_enum_v<T>) {
@@ -178,6 +211,12 @@ bool FromJson(const nlohmann::json& json, SamplerOptions* options, std::string* 
   if (!error.empty()) return OptionsFail(why, error);
   for (const auto& [key, value] : json.items())
     if (!known.count(key)) return OptionsFail(why, "sampler." + key + ": unknown option");
+  // As many replicas per chain as the batch holds, unless the object says how many; a long
+  // fixed run may exceed the default cap on convergence-driven ones.
+  if ((json.contains("batch") || json.contains("chains")) && !json.contains("temperatures"))
+    out.temperatures = std::max(1, out.batch / std::max(1, out.chains));
+  if (json.contains("iterations") && !json.contains("max_iterations"))
+    out.max_iterations = std::max(out.max_iterations, out.iterations);
   if (!out.IsValid(why)) return false;
   *options = out;
   return true;

@@ -34,17 +34,35 @@ enum class AnnealSchedule {
 const char* ToString(AnnealSchedule schedule);
 bool FromString(const std::string& text, AnnealSchedule* schedule);
 
+// The most hypotheses one frame may take (`batch`): 4,096 already take minutes per frame on
+// lavapipe and a second on a large GPU; more can never be a useful ladder, only a run that
+// looks hung.
+constexpr int kMaxSamplerBatch = 4096;
+// time_limit's default with until_converged: a run a user starts at a desk ends within
+// minutes on a CPU device (lavapipe), converged or not; the report and the diagnosis say which.
+constexpr double kDefaultTimeLimit = 240.0;
+
+// The scene file's "sampler" block reads into this (docs/guide/SCENE_FORMAT.md, "sampler"):
+// the defaults here are a run's.
 struct SamplerOptions {
   // Metropolis–Hastings iterations; every frame advances every replica of every chain by one.
   // With `until_converged` they only lay out the schedule above (exploration, settling,
   // burn-in), and sampling goes on past them until the chains have converged.
-  int iterations = 4000;
+  int iterations = 600;
   // Convergence-driven length (Vehtari et al. 2021): once `iterations` are done, every
   // `convergence_interval` iterations the post-burn-in draws are checked, and sampling ends
   // when every parameter has rank-normalised split-R̂ ≤ target_rhat and bulk-ESS ≥
   // target_ess, or at max_iterations. A caller's time limit ends it too
-  // (FrameRequest::finish_sampling).
-  bool until_converged = false;
+  // (FrameRequest::finish_sampling). In JSON, `"iterations": "auto"` sets it, and a number
+  // of iterations clears it unless the same object sets it.
+  bool until_converged = true;
+  // Seconds of sampling before the caller ends it where it is (0: none; below 0, "auto":
+  // kDefaultTimeLimit with until_converged, none with a fixed count). Applied by the
+  // sampler's caller through FrameRequest::finish_sampling; see TimeLimit().
+  double time_limit = -1.0;
+  // The most hypotheses one frame evaluates: the likelihood's batch. A JSON object that sets
+  // it without `temperatures` gives each chain batch / chains replicas.
+  int batch = 16;
   double target_rhat = 1.01;
   double target_ess = 400.0;
   int max_iterations = 200000;
@@ -172,6 +190,9 @@ struct SamplerOptions {
   // Whether every field is in range; otherwise `why` names the field and the problem.
   bool IsValid(std::string* why) const;
 
+  // time_limit with "auto" resolved: seconds, 0 for none.
+  double TimeLimit() const { return time_limit >= 0.0 ? time_limit : until_converged ? kDefaultTimeLimit : 0.0; }
+
   // Derived iteration counts (see the schedule above).
   int BurnIn() const;
   int AnnealIterations() const;
@@ -179,7 +200,9 @@ struct SamplerOptions {
 };
 
 // Every field by name; FromJson takes any subset of them (the others keep `options`'s
-// values) and rejects unknown keys, wrong types and invalid results with a reason.
+// values) and rejects unknown keys, wrong types and invalid results with a reason
+// ("sampler.FIELD: …"). Words for enums; "auto" for iterations (until_converged) and for
+// time_limit below 0, "none" for a time_limit of 0.
 nlohmann::json ToJson(const SamplerOptions& options);
 bool FromJson(const nlohmann::json& json, SamplerOptions* options, std::string* why);
 

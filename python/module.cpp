@@ -15,7 +15,7 @@
 #include <vector>
 
 #include "engine/common/InputError.h"
-#include "engine/geometry/AtlasFootprint.h"
+#include "pipelines/model/LikelihoodSettings.h"
 #include "engine/geometry/SceneGeometry.h"
 #include "engine/image/Image.h"
 #include "engine/scene/Scene.h"
@@ -139,7 +139,8 @@ py::array_t<float> Render(const vkr::Scene& scene, std::optional<py::array_t<dou
     if (texture) atlas = vkr::LoadImage(*texture);
     // The same layout as the run that made the texture: decided at the initial values.
     const vkr::SceneGeometry geometry =
-        vkr::BuildSceneGeometry(scene, scene.InitialValues(), texture ? atlas.width : atlas_side);
+        vkr::BuildSceneGeometry(scene, scene.InitialValues(), texture ? atlas.width : atlas_side,
+                                vkr::LikelihoodSettingsOf(scene).charts);
     if (!texture) atlas = vkr::BakeAlbedoAtlas(geometry.atlas, geometry.meshes, vkr::LoadAlbedos(scene));
     image = vkr::RenderWithAtlas(*SharedDevice(), scene, psi, geometry, atlas, views).front();
   }

@@ -1,5 +1,7 @@
 #include "recon/Diagnosis.h"
 
+#include "pipelines/model/LikelihoodSettings.h"
+
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -126,7 +128,7 @@ Diagnosis Diagnose(const Scene& scene, const Evaluation& at_map, double sigma_25
   const Diagnosis::Verdict provisional = !failed.empty()  ? Diagnosis::Verdict::Failed
                                          : !model.empty() ? Diagnosis::Verdict::ModelError
                                                           : Diagnosis::Verdict::Ok;
-  const double scale = ChooseNoiseIntervals(scene.likelihood, summary.calibration, provisional).scale;
+  const double scale = ChooseNoiseIntervals(LikelihoodSettingsOf(scene), summary.calibration, provisional).scale;
   for (size_t i = 0; i < summary.parameters.size() && i < scene.parameters.size(); ++i) {
     const opt::ParameterSummary& p = summary.parameters[i];
     const Prior& prior = scene.parameters[i].prior;
@@ -208,7 +210,7 @@ Diagnosis Diagnose(const Scene& scene, const Evaluation& at_map, double sigma_25
     // κ over blocks of a fixed size (8×8 above all) measures the noise, not a bias that what
     // the scene leaves out gives the mode (docs/internals/LIKELIHOOD.md, "Honest intervals"): say so,
     // and what widens them.
-    if (scene.likelihood.sandwich_blocks != 0)
+    if (LikelihoodSettingsOf(scene).sandwich_blocks != 0)
       model.push_back("the intervals allow for the photographs' noise, not for what the scene leaves out, which can "
                       "move the MAP beyond them: model it, or set likelihood.sandwich_blocks to \"auto\" for "
                       "intervals that err wide (docs/internals/LIKELIHOOD.md, \"Honest intervals\")");

@@ -9,6 +9,7 @@
 #include <optional>
 
 #include "recon/SearchSetup.h"
+#include "pipelines/model/LikelihoodSettings.h"
 #include "optimiser/Polish.h"
 #include "pipelines/likelihood/NoiseCalibration.h"
 
@@ -47,7 +48,8 @@ FinerAtlasPolish PolishAtFinerAtlas(vk::Device& device, const Scene& scene, std:
                                     const std::function<void(size_t)>& on_evaluate) {
   FinerAtlasPolish polish;
   if (evaluations <= 0) return polish;
-  if (scene.likelihood.kind != "surface") {
+  const LikelihoodSettings settings = LikelihoodSettingsOf(scene);
+  if (settings.kind != LikelihoodKind::Surface) {
     polish.skipped = "the image-space likelihood has no atlas";
     return polish;
   }
@@ -56,12 +58,12 @@ FinerAtlasPolish PolishAtFinerAtlas(vk::Device& device, const Scene& scene, std:
     polish.skipped = "the run has no MAP";
     return polish;
   }
-  if (2 * scene.likelihood.atlas > kFinerAtlasMaxSide) {
-    polish.skipped = "the atlas is " + std::to_string(scene.likelihood.atlas) + "²: a polish at twice that side would cost as much as a run";
+  if (2 * settings.atlas > kFinerAtlasMaxSide) {
+    polish.skipped = "the atlas is " + std::to_string(settings.atlas) + "²: a polish at twice that side would cost as much as a run";
     return polish;
   }
   const auto start = std::chrono::steady_clock::now();
-  polish.atlas = 2 * scene.likelihood.atlas;
+  polish.atlas = 2 * settings.atlas;
   overrides.push_back({"likelihood.atlas", std::to_string(polish.atlas)});
   if (!quiet)
     std::cerr << "vkrecon run: polishing the MAP at a " << polish.atlas << "² atlas (at most " << evaluations
@@ -74,8 +76,8 @@ FinerAtlasPolish PolishAtFinerAtlas(vk::Device& device, const Scene& scene, std:
   try {
     doubled.emplace(LoadSearchScene(scene.file, overrides));
     likelihood = MakeSearchLikelihood(device, *doubled, 1);
-    polish.sigma = CalibrateNoise(*likelihood, summary.map, {}, 1.0, scene.likelihood.sigma_auto,
-                                  scene.likelihood.clutter, scene.likelihood.sandwich_blocks)
+    polish.sigma = CalibrateNoise(*likelihood, summary.map, {}, 1.0, settings.sigma_auto, settings.clutter,
+                                  settings.sandwich_blocks)
                        .sigma;
   } catch (const std::exception& e) {
     polish.skipped = std::string("no likelihood at the doubled atlas: ") + e.what();

@@ -61,7 +61,7 @@ FitResult FitMap(const FitOptions& options, vk::Device& device) {
   search.method = options.method;
   search.max_cost = options.evaluations;
   search.levels = options.levels > 0 ? options.levels : likelihood->levels();
-  search.seed = scene.sampler.seed;
+  search.seed = SamplerOptionsOf(scene).seed;
   search.restarts = options.restarts;
   FitProgress progress(options.quiet, options.evaluations);
   FitResult result;

@@ -28,6 +28,7 @@ LikelihoodTarget::LikelihoodTarget(Likelihood& likelihood, const Scene& scene, b
                                    EvaluationHook on_evaluate)
     : likelihood_(likelihood),
       scene_(scene),
+      settings_(LikelihoodSettingsOf(scene)),
       estimate_sigma_(estimate_sigma),
       mask_clutter_(mask_clutter),
       writes_files_(writes_files),
@@ -66,13 +67,13 @@ nlohmann::json LikelihoodTarget::Calibrate(const std::vector<double>& psi, const
     raw = RawInverseCurvature(covariance, calibration_.adjusted_curvature, calibration_.raw_curvature);
     kappa = 1.0;
   }
-  const bool curvature = scene_.likelihood.sandwich_adjustment == "curvature";
+  const bool curvature = settings_.sandwich_adjustment == SandwichAdjustment::Curvature;
   calibration_ = CalibrateNoise(likelihood_, psi, raw, kappa, estimate_sigma_, mask_clutter_,
-                                scene_.likelihood.sandwich_blocks, 2.0, curvature);
+                                settings_.sandwich_blocks, 2.0, curvature);
   // A fixed `likelihood.kappa` replaces the estimate (kept only as kappa_min/max's report), so
   // that several scenes' evidences are of one likelihood (docs/guide/WHICH_SCENE.md).
-  if (scene_.likelihood.kappa > 0.0) calibration_.kappa = scene_.likelihood.kappa;
-  else if (scene_.likelihood.kappa_estimate == "noise") calibration_.kappa = calibration_.kappa_noise;
+  if (settings_.kappa > 0.0) calibration_.kappa = settings_.kappa;
+  else if (settings_.kappa_estimate == KappaEstimate::Noise) calibration_.kappa = calibration_.kappa_noise;
   calibrated_ = true;
   return CalibrationJson();
 }
@@ -95,7 +96,7 @@ nlohmann::json LikelihoodTarget::RefitAt(const std::vector<double>& psi) {
   // on stairs at σ 0 1.8 times as much). κ stays the one the chains sampled with.
   const NoiseCalibration sandwich = calibration_;  // the chains' κ and its eigenvalues
   calibration_ = CalibrateNoise(likelihood_, psi, {}, sandwich.kappa, estimate_sigma_, mask_clutter_,
-                                scene_.likelihood.sandwich_blocks);
+                                settings_.sandwich_blocks);
   calibration_.kappa = sandwich.kappa;
   calibration_.kappa_noise = sandwich.kappa_noise;
   calibration_.noise_rings = sandwich.noise_rings;

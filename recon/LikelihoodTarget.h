@@ -15,6 +15,7 @@
 #include "optimiser/Target.h"
 #include "pipelines/likelihood/Likelihood.h"
 #include "pipelines/likelihood/NoiseCalibration.h"
+#include "pipelines/model/LikelihoodSettings.h"
 
 namespace vkr::recon {
 
@@ -61,6 +62,7 @@ class LikelihoodTarget : public opt::Target {
 
   Likelihood& likelihood_;
   const Scene& scene_;
+  const LikelihoodSettings settings_;  // the scene's "likelihood" block
   bool estimate_sigma_, mask_clutter_, writes_files_;
   std::filesystem::path output_dir_;
   EvaluationHook on_evaluate_;

@@ -20,13 +20,13 @@ NoiseIntervals ChooseNoiseIntervals(const LikelihoodSettings& settings, const nl
     out.from = "fixed";
     return out;
   }
-  if (settings.kappa_estimate == "noise") {
+  if (settings.kappa_estimate == KappaEstimate::Noise) {
     out.from = "chains";
     return out;
   }
   out.from = "sandwich";
   const nlohmann::json noise = calibration.value("noise_correlation", nlohmann::json());
-  if (settings.kappa_estimate == "sandwich") {
+  if (settings.kappa_estimate == KappaEstimate::Sandwich) {
     out.why = "likelihood.kappa is \"sandwich\"";
   } else if (!noise.is_object() || !noise.contains("kappa") || !noise["kappa"].is_number()) {
     out.why = "the noise's correlation was not measured";

@@ -20,6 +20,7 @@
 #include <nlohmann/json.hpp>
 
 #include "engine/scene/Scene.h"
+#include "pipelines/model/LikelihoodSettings.h"
 #include "optimiser/Sampler.h"
 #include "recon/Diagnosis.h"
 

@@ -25,6 +25,7 @@
 
 #include "engine/common/InputError.h"
 #include "engine/geometry/SceneGeometry.h"
+#include "engine/scene/SettingsReader.h"
 #include "optimiser/Evidence.h"
 #include "optimiser/Polish.h"
 #include "optimiser/Sampler.h"
@@ -94,8 +95,8 @@ class ProgressBar {
 // fixed T₀ is far too cold for photographs, whose log-likelihood spans 10⁴–10⁵ nats
 // across the prior at full resolution. Scored at the coarsest level, where sampling starts,
 // through the (uncalibrated, κ = 1) target, so that MPI ranks share the batch.
-double InitialTemperature(const Scene& scene, opt::Target& target) {
-  std::mt19937_64 rng(scene.sampler.seed);
+double InitialTemperature(const Scene& scene, std::uint64_t seed, opt::Target& target) {
+  std::mt19937_64 rng(seed);
   std::vector<std::vector<double>> draws(size_t(target.max_batch()), scene.InitialValues());
   for (auto& psi : draws)
     for (size_t i = 0; i < psi.size(); ++i) {
@@ -140,25 +141,11 @@ opt::MapSearchSummary RunStartSearch(const Scene& scene, opt::Target& target, do
   return s;
 }
 
-// The scene's sampler block over the defaults, with the command line's --temperatures.
+// The scene's sampler block with the likelihood's levels (unless the block sets
+// coarse_levels) and the command line's --temperatures.
 opt::SamplerOptions SamplerOptionsFor(const RunContext& run, int levels) {
-  const Scene& scene = run.scene;
-  opt::SamplerOptions sampler_options;
-  sampler_options.coarse_levels = levels;
-  sampler_options.temperatures = std::max(1, scene.sampler.batch / scene.sampler.chains);
-  {
-    std::string why;
-    const nlohmann::json extra = nlohmann::json::parse(scene.sampler.options_json);
-    if (!opt::FromJson(extra, &sampler_options, &why))  // why names sampler.FIELD when it can
-      throw InputError(scene.file.string(), why.rfind("sampler.", 0) == 0 ? "" : "sampler", why);
-  }
-  sampler_options.iterations = scene.sampler.iterations;
-  // "iterations": "auto" is until_converged over the default schedule; a block that sets
-  // until_converged itself lays out its own schedule with the number it gives.
-  sampler_options.until_converged = sampler_options.until_converged || scene.sampler.iterations_auto;
-  sampler_options.max_iterations = std::max(sampler_options.max_iterations, sampler_options.iterations);
-  sampler_options.chains = scene.sampler.chains;
-  sampler_options.seed = scene.sampler.seed;
+  opt::SamplerOptions sampler_options = run.sampler;
+  if (!SettingsReader(run.scene, "sampler").Find("coarse_levels")) sampler_options.coarse_levels = levels;
   if (run.options.temperatures > 0) sampler_options.temperatures = run.options.temperatures;
   return sampler_options;
 }
@@ -208,7 +195,7 @@ opt::MapSearchSummary ReadStartSearch(const RunContext& run) {
 // The sampler's state with the scene's likelihood settings and max_side (which photographs the
 // likelihood compares) beside it, atomically.
 void WriteCheckpoint(const RunContext& run, nlohmann::json state) {
-  state["likelihood_settings"] = LikelihoodSettingsJson(run.scene);
+  state["likelihood_settings"] = ToJson(run.likelihood);
   state["max_side"] = run.scene.max_side;
   WriteAtomically(run.checkpoint_file, state.dump());
 }
@@ -225,7 +212,7 @@ void RequireSameLikelihood(const RunContext& run, const nlohmann::json& state) {
   };
   if (const auto it = state.find("max_side"); it != state.end()) require("max_side", *it, run.scene.max_side);
   if (!state.contains("likelihood_settings")) return;  // written before they were kept
-  const nlohmann::json now = LikelihoodSettingsJson(run.scene);
+  const nlohmann::json now = ToJson(run.likelihood);
   for (const auto& [key, then] : state["likelihood_settings"].items())
     if (now.contains(key)) require("likelihood." + key, then, now[key]);
 }
@@ -269,7 +256,7 @@ std::unique_ptr<opt::Sampler> StartSampler(const RunContext& run, opt::SamplerOp
   // Before the first checkpoint, so that any run that resumes has its mode to compare.
   *start = RunStartSearch(run.scene, target, sampler_options.start_search, run.Say(), run.options.observer.best);
   if (run.root && !start->map.empty()) WriteAtomically(run.start_file, ToJson(*start).dump(2) + "\n");
-  sampler_options.initial_temperature = InitialTemperature(run.scene, target);
+  sampler_options.initial_temperature = InitialTemperature(run.scene, sampler_options.seed, target);
   auto sampler = std::make_unique<opt::Sampler>(sampler_options, ParameterSpecs(run.scene), target);
   // From here on a resume continues this run rather than starting it again (the initial
   // temperature above is drawn from the photographs: not worth redoing).
@@ -381,17 +368,17 @@ void WriteOutputs(const RunContext& run, const opt::Sampler& sampler, const nloh
 
 // What the evidence is of: the noise model the ladder scored with, and which of its numbers
 // the scene fixed (two runs' evidences compare only under one likelihood).
-nlohmann::json EvidenceLikelihood(const Scene& scene, const nlohmann::json& calibration) {
+nlohmann::json EvidenceLikelihood(const LikelihoodSettings& settings, const nlohmann::json& calibration) {
   if (!calibration.is_object() || !calibration.contains("sigma")) return nullptr;
   return {{"sigma", calibration["sigma"]},
-          {"position_sd", calibration.value("position_sd", scene.likelihood.position_sd)},
+          {"position_sd", calibration.value("position_sd", settings.position_sd)},
           {"kappa", calibration.value("kappa", 1.0)},
-          {"sigma_fixed", !scene.likelihood.sigma_auto},
-          {"kappa_fixed", scene.likelihood.kappa > 0.0},
-          {"kind", scene.likelihood.kind},
-          {"photometric", scene.likelihood.photometric},
-          {"clutter", scene.likelihood.clutter},
-          {"edges", scene.likelihood.edges}};
+          {"sigma_fixed", !settings.sigma_auto},
+          {"kappa_fixed", settings.kappa > 0.0},
+          {"kind", ToString(settings.kind)},
+          {"photometric", ToString(settings.photometric)},
+          {"clutter", settings.clutter},
+          {"edges", settings.edges}};
 }
 
 }  // namespace
@@ -414,9 +401,9 @@ void Reconstruct(const ReconstructOptions& options, vk::Device& device, Reconstr
   const RunContext run(options, device);
   if (run.root) fs::create_directories(options.output_dir);
 
-  std::unique_ptr<Likelihood> likelihood = MakeSearchLikelihood(device, run.scene, run.scene.sampler.batch);
-  LikelihoodTarget local_target(*likelihood, run.scene, run.scene.likelihood.sigma_auto,
-                                run.scene.likelihood.clutter, options.output_dir, run.root, options.observer.evaluated);
+  std::unique_ptr<Likelihood> likelihood = MakeSearchLikelihood(device, run.scene, run.sampler.batch);
+  LikelihoodTarget local_target(*likelihood, run.scene, run.likelihood.sigma_auto, run.likelihood.clutter,
+                                options.output_dir, run.root, options.observer.evaluated);
   DistributedTarget target(local_target, run.ranks);
   const opt::SamplerOptions sampler_options = SamplerOptionsFor(run, likelihood->levels());
 
@@ -438,10 +425,10 @@ void Reconstruct(const ReconstructOptions& options, vk::Device& device, Reconstr
   // The checkpoint keeps the chains' calibration, which an adoption replaces in the summary
   // (the nuisances refitted at the adopted mode): a resumed finished run reloads its masks.
   const nlohmann::json chains_calibration = summary.sampler.calibration;
-  summary.evidence_likelihood = EvidenceLikelihood(run.scene, chains_calibration);
+  summary.evidence_likelihood = EvidenceLikelihood(run.likelihood, chains_calibration);
   Refine(run, *sampler, target, &summary);
   const nlohmann::json exchange =
-      run.ranks.distributed() ? ExchangeCost(target.times(), run.ranks, run.scene.sampler.batch) : nlohmann::json();
+      run.ranks.distributed() ? ExchangeCost(target.times(), run.ranks, run.sampler.batch) : nlohmann::json();
 
   if (summary.termination == opt::Termination::Failed)
     throw std::runtime_error("sampler failed: " + summary.sampler.message);

@@ -22,9 +22,9 @@ namespace vkr::recon {
 namespace {
 
 // The σ (0–255) the run ended with: estimated at the mode with `sigma: auto`, else the given one.
-double SigmaUsed(const Scene& scene, const opt::SamplerSummary& s) {
+double SigmaUsed(const LikelihoodSettings& settings, const opt::SamplerSummary& s) {
   if (s.calibration.is_object() && s.calibration.contains("sigma")) return s.calibration["sigma"].get<double>();
-  return scene.likelihood.sigma;
+  return settings.sigma;
 }
 
 // The MAP climbs on at twice the atlas's side (FinerAtlasPolish.h), and is adopted when it
@@ -53,7 +53,7 @@ std::unique_ptr<SurfaceLikelihood> OutputLikelihood(const RunContext& run, const
                                                     SurfaceLikelihoodOptions* surface) {
   *surface = SurfaceLikelihoodOptions::FromScene(run.scene);
   surface->max_batch = 1;
-  surface->model.sigma = SigmaUsed(run.scene, summary);
+  surface->model.sigma = SigmaUsed(run.likelihood, summary);
   if (summary.calibration.is_object()) {
     const NoiseCalibration calibration = NoiseCalibrationFromJson(summary.calibration);
     surface->model.position_sd = calibration.position_sd;
@@ -126,7 +126,7 @@ ModelOutputs WriteModel(const RunContext& run, const opt::Sampler& sampler, Surf
   const Image composite = DilateAtlas(dump.composite);
   WriteExr(out / "composite.exr", composite);
   WritePng(out / "composite.png", composite);
-  SceneGeometry geometry = BuildSceneGeometry(run.scene, run.scene.InitialValues(), surface.atlas);
+  SceneGeometry geometry = BuildSceneGeometry(run.scene, run.scene.InitialValues(), surface.atlas, surface.charts);
   WriteTexturedGlb(out / "model.glb", run.scene, geometry, summary->map, composite);
   ReprojectionNoise noise;
   noise.sigma_255 = surface.model.sigma;
@@ -150,7 +150,7 @@ nlohmann::json SettingsJson(const RunContext& run, const opt::Sampler& sampler) 
       {"overrides", nlohmann::json::array()},
       {"device", run.device.name()},
       {"max_side", scene.max_side > 0 ? nlohmann::json(scene.max_side) : nlohmann::json(nullptr)},
-      {"likelihood", LikelihoodSettingsJson(scene)},
+      {"likelihood", ToJson(run.likelihood)},
       {"sampler", opt::ToJson(sampler.options())},
       {"time_limit", run.time_limit}};
   for (const SceneOverride& o : scene.overrides) settings["overrides"].push_back(o.path + "=" + o.value);
@@ -158,25 +158,6 @@ nlohmann::json SettingsJson(const RunContext& run, const opt::Sampler& sampler) 
 }
 
 }  // namespace
-
-nlohmann::json LikelihoodSettingsJson(const Scene& scene) {
-  const LikelihoodSettings& l = scene.likelihood;
-  return {{"kind", l.kind},
-          {"sigma", l.sigma_auto ? nlohmann::json("auto") : nlohmann::json(l.sigma)},
-          {"weights", l.weights},
-          {"atlas", l.atlas},
-          {"levels", l.levels},
-          {"charts", l.charts},
-          {"photometric", l.photometric},
-          {"clutter", l.clutter},
-          {"edges", l.edges},
-          {"sandwich_blocks", l.sandwich_blocks == 0 ? nlohmann::json("auto") : nlohmann::json(l.sandwich_blocks)},
-          {"sandwich_adjustment", l.sandwich_adjustment},
-          {"kappa", l.kappa > 0.0 ? nlohmann::json(l.kappa) : nlohmann::json(l.kappa_estimate)},
-          {"position_sd", l.position_sd},
-          {"partners", l.partners},
-          {"partner_ranking", l.partner_ranking}};
-}
 
 void FinishAtMap(const RunContext& run, const opt::Sampler& sampler, const nlohmann::json& chains_calibration,
                  ReconstructSummary* summary, SceneGeometry* geometry) {
@@ -190,7 +171,7 @@ void FinishAtMap(const RunContext& run, const opt::Sampler& sampler, const nlohm
   summary->diagnosis = std::move(model.diagnosis);
   // After the diagnosis, which judges the chains' own spread; before anything states it.
   const NoiseIntervals intervals =
-      ChooseNoiseIntervals(run.scene.likelihood, summary->sampler.calibration, summary->diagnosis.verdict);
+      ChooseNoiseIntervals(run.likelihood, summary->sampler.calibration, summary->diagnosis.verdict);
   std::vector<double> prior_sd;  // a normal prior's sd; a uniform one holds no spread near the mode
   for (const Parameter& parameter : run.scene.parameters)
     prior_sd.push_back(parameter.prior.kind == Prior::Kind::Uniform ? std::numeric_limits<double>::infinity()

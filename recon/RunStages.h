@@ -10,8 +10,10 @@
 
 #include "engine/geometry/SceneGeometry.h"
 #include "optimiser/Sampler.h"
+#include "pipelines/model/LikelihoodSettings.h"
 #include "recon/Ranks.h"
 #include "recon/Reconstruct.h"
+#include "recon/SearchSetup.h"
 
 namespace vkr::recon {
 
@@ -29,7 +31,9 @@ struct RunContext {
         checkpoint_file(options.output_dir / "checkpoint.json"),
         start_file(options.output_dir / "start_search.json"),
         // Per invocation: a resumed run gets the whole limit again.
-        time_limit(options.time_limit >= 0.0 ? options.time_limit : scene.sampler.TimeLimit()) {}
+        likelihood(LikelihoodSettingsOf(scene)),
+        sampler(SamplerOptionsOf(scene)),
+        time_limit(options.time_limit >= 0.0 ? options.time_limit : sampler.TimeLimit()) {}
 
   // The run's messages (progress, what it did) unless quiet; Warn's whatever quiet says.
   std::ostream* Say() const { return quiet ? nullptr : options.log; }
@@ -44,6 +48,9 @@ struct RunContext {
   // The local search before sampling (SamplerOptions::start_search), kept beside the
   // checkpoint: a resumed run compares the same mode at the end.
   const std::filesystem::path start_file;
+  // The scene's settings blocks, typed: "auto" atlas and levels resolved (LoadSearchScene).
+  const LikelihoodSettings likelihood;
+  const opt::SamplerOptions sampler;  // before the run adds the likelihood's levels (SamplerOptionsFor)
   const double time_limit;  // seconds of sampling; 0: none
 };
 
@@ -57,8 +64,5 @@ std::string Duration(double seconds);
 void FinishAtMap(const RunContext& run, const opt::Sampler& sampler, const nlohmann::json& chains_calibration,
                  ReconstructSummary* summary, SceneGeometry* geometry);
 
-// The scene's likelihood settings as map.json's `settings.likelihood` states them; a
-// checkpoint keeps them too, so that a resume under other settings is refused.
-nlohmann::json LikelihoodSettingsJson(const Scene& scene);
 
 }  // namespace vkr::recon

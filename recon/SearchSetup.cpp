@@ -1,7 +1,8 @@
 #include "recon/SearchSetup.h"
 
 #include "engine/common/InputError.h"
-#include "engine/geometry/AtlasFootprint.h"
+#include "engine/scene/SettingsReader.h"
+#include "pipelines/model/LikelihoodSettings.h"
 #include "pipelines/likelihood/LikelihoodTool.h"
 
 namespace fs = std::filesystem;
@@ -14,6 +15,17 @@ Scene LoadSearchScene(const fs::path& file, const std::vector<SceneOverride>& ov
   if (scene.parameters.empty())
     throw InputError(scene.file.string(), "parameters", "nothing to reconstruct: the scene declares no parameter");
   return scene;
+}
+
+opt::SamplerOptions SamplerOptionsOf(const Scene& scene) {
+  opt::SamplerOptions options;
+  std::string why;
+  const nlohmann::json block = SettingsReader(scene, "sampler").json();
+  // `why` is "sampler.FIELD: problem" for what the JSON says, "FIELD must …" for what IsValid says.
+  if (!opt::FromJson(block, &options, &why))
+    throw InputError(scene.file.string(), why.rfind("sampler.", 0) == 0 ? "" : "sampler." + why.substr(0, why.find(' ')),
+                     why);
+  return options;
 }
 
 std::unique_ptr<Likelihood> MakeSearchLikelihood(vk::Device& device, const Scene& scene, int max_batch) {

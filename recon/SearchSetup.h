@@ -10,6 +10,7 @@
 #include "engine/scene/Scene.h"
 #include "engine/vk/Device.h"
 #include "optimiser/Parameter.h"
+#include "optimiser/SamplerOptions.h"
 #include "pipelines/likelihood/Likelihood.h"
 
 namespace vkr::recon {
@@ -17,6 +18,10 @@ namespace vkr::recon {
 // The scene file with its overrides and "auto" likelihood settings resolved (map.json reports
 // what was used). InputError for bad input, and for a scene without parameters.
 Scene LoadSearchScene(const std::filesystem::path& file, const std::vector<SceneOverride>& overrides);
+
+// The scene's "sampler" block over SamplerOptions' defaults (the run's). InputError naming the
+// scene file and the field.
+opt::SamplerOptions SamplerOptionsOf(const Scene& scene);
 
 // The scene's likelihood, scoring batches of up to `max_batch`, with its first colour
 // correction made (see the .cpp) and left at level 0.

@@ -7,7 +7,7 @@
 #include <fstream>
 #include <stdexcept>
 
-#include "engine/geometry/AtlasFootprint.h"
+#include "pipelines/model/LikelihoodSettings.h"
 #include "engine/geometry/SceneGeometry.h"
 #include "engine/image/Image.h"
 #include "engine/scene/CameraWriter.h"
@@ -325,10 +325,11 @@ BenchScene PrepareAsset(const fs::path& asset_dir, const fs::path& dir, double s
   ResolveAutoLikelihood(scene);
   BenchScene out;
   out.cameras = int(scene.cameras.size());
-  out.atlas = scene.likelihood.atlas;
+  const LikelihoodSettings settings = LikelihoodSettingsOf(scene);
+  out.atlas = settings.atlas;
   out.width = std::max(1, int(std::lround(scene.cameras.at(0).width * scale)));
   out.height = std::max(1, int(std::lround(scene.cameras.at(0).height * scale)));
-  out.triangles = int(BuildSceneGeometry(scene, scene.InitialValues(), out.atlas).indices.size() / 3);
+  out.triangles = int(BuildSceneGeometry(scene, scene.InitialValues(), out.atlas, settings.charts).indices.size() / 3);
   return Synthesise(out, dir, scene_file, fs::absolute(asset_dir / "truth.json"), overrides, scale, device, 2048);
 }
 

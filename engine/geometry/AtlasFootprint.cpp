@@ -123,7 +123,6 @@ double SurfaceFootprintPixels(const Scene& scene, const std::vector<Mesh>& meshe
 }
 
 std::vector<double> ChartDensities(const Scene& scene, const std::vector<Mesh>& meshes, const std::vector<double>& psi) {
-  if (scene.likelihood.charts != "pixels") return {};
   const std::vector<double> pixels = FacePixels(scene, meshes, psi);
   const std::vector<Eigen::Matrix4d> world_from_node = scene.WorldFromNode(psi);
   std::vector<double> area;
@@ -160,14 +159,5 @@ int AutoLevels(int atlas_side) {
   while (levels < 3 && (atlas_side >> levels) >= kMinAutoAtlas) ++levels;
   return levels;
 }
-
-LikelihoodSettings ResolvedLikelihood(const Scene& scene) {
-  LikelihoodSettings s = scene.likelihood;
-  if (s.atlas <= 0) s.atlas = AutoAtlasSide(SurfaceFootprintPixels(scene, BuildMeshes(scene)));
-  if (s.levels <= 0) s.levels = AutoLevels(s.atlas);
-  return s;
-}
-
-void ResolveAutoLikelihood(Scene& scene) { scene.likelihood = ResolvedLikelihood(scene); }
 
 }  // namespace vkr

@@ -33,22 +33,16 @@ std::vector<double> FacePixels(const Scene& scene, const std::vector<Mesh>& mesh
 // constants were fitted.
 double SurfaceFootprintPixels(const Scene& scene, const std::vector<Mesh>& meshes);
 
-// likelihood.charts "pixels": each face's density for PackAtlas (Atlas.h), such that its
+// ChartSizing::Pixels (likelihood.charts "pixels"): each face's density for PackAtlas (Atlas.h), such that its
 // texels are in proportion to its FacePixels at `psi` — √(pixels / area) texels per metre,
 // up to the common scale the packer fits. A face that covers few pixels at `psi` (seen
 // edge-on, hidden behind a camera) is kept at no less than a quarter of the density that
 // spreads all the pixels evenly over all the surface, so that a hypothesis turning it
-// towards a camera still finds texels there. "area": empty (every face density 1).
+// towards a camera still finds texels there.
 std::vector<double> ChartDensities(const Scene& scene, const std::vector<Mesh>& meshes, const std::vector<double>& psi);
 
 // The rule above for a footprint of `pixels`.
 int AutoAtlasSide(double pixels);
 int AutoLevels(int atlas_side);
-
-// scene.likelihood with "auto" (0) in atlas and levels replaced by the rule's values. Builds
-// the meshes when the atlas is auto (InputError for unreadable ones).
-LikelihoodSettings ResolvedLikelihood(const Scene& scene);
-// The same in place, for commands that report the settings they ran with.
-void ResolveAutoLikelihood(Scene& scene);
 
 }  // namespace vkr

@@ -26,8 +26,17 @@ std::vector<Mesh> BuildMeshes(const Scene& scene) {
   return meshes;
 }
 
+const char* ToString(ChartSizing charts) { return charts == ChartSizing::Pixels ? "pixels" : "area"; }
+
+bool FromString(const std::string& text, ChartSizing* charts) {
+  if (text == "area") *charts = ChartSizing::Area;
+  else if (text == "pixels") *charts = ChartSizing::Pixels;
+  else return false;
+  return true;
+}
+
 SceneGeometry BuildSceneGeometry(const Scene& scene, const std::vector<double>& psi_layout,
-                                 int atlas_size) {
+                                 int atlas_size, ChartSizing charts) {
   if (atlas_size <= 0)  // "auto" must be resolved first (AtlasFootprint.h)
     throw std::logic_error("BuildSceneGeometry: atlas size " + std::to_string(atlas_size));
   SceneGeometry g;
@@ -40,7 +49,8 @@ SceneGeometry BuildSceneGeometry(const Scene& scene, const std::vector<double>& 
   // follow the world extents there (times the faces' pixel densities under charts
   // "pixels"), and stay fixed while the sampler moves the geometry.
   g.atlas = PackAtlas(g.meshes, scene.WorldFromNode(psi_layout), atlas_size, 2,
-                      ChartDensities(scene, g.meshes, psi_layout));
+                      charts == ChartSizing::Pixels ? ChartDensities(scene, g.meshes, psi_layout)
+                                                    : std::vector<double>{});
 
   // PackAtlas lists charts in (node, face) order, so a node's faces start at first_chart.
   size_t chart = 0;

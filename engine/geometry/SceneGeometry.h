@@ -4,6 +4,7 @@
 // so a whole hypothesis is one draw reading node matrices from a small buffer.
 
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "engine/geometry/Atlas.h"
@@ -34,11 +35,18 @@ struct SceneGeometry {
 // unreadable meshes.
 std::vector<Mesh> BuildMeshes(const Scene& scene);
 
+// How the atlas shares its texels among the faces (likelihood.charts): Area, the same texels
+// per metre everywhere; Pixels, in proportion to the pixels each face covers in the camera
+// that sees it largest (ChartDensities, AtlasFootprint.h).
+enum class ChartSizing { Area, Pixels };
+const char* ToString(ChartSizing charts);
+bool FromString(const std::string& text, ChartSizing* charts);
+
 // Builds meshes (primitives, glTF files), packs the atlas at Ψ = `psi_layout` (usually the
-// initial values; charts sized as the scene's likelihood.charts says, AtlasFootprint.h) and
-// flattens. Throws InputError for unreadable meshes.
+// initial values; charts sized as `charts` says) and flattens. Throws InputError for
+// unreadable meshes.
 SceneGeometry BuildSceneGeometry(const Scene& scene, const std::vector<double>& psi_layout,
-                                 int atlas_size);
+                                 int atlas_size, ChartSizing charts);
 
 // Each node's albedo image (empty Image for nodes without one). Throws InputError naming
 // the scene file and nodes[i].albedo when a texture cannot be read.

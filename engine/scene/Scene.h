@@ -1,8 +1,8 @@
 #pragma once
 // The scene model: what a scene file describes, independent of Vulkan
-// (docs/guide/SCENE_FORMAT.md). A Scene is immutable after loading; a hypothesis Ψ is a vector of
-// parameter values in the order of Scene::parameters, and the scene turns it into node
-// matrices and cameras.
+// (docs/guide/SCENE_FORMAT.md): parameters, nodes and cameras. A Scene is immutable after
+// loading; a hypothesis Ψ is a vector of parameter values in the order of Scene::parameters,
+// and the scene turns it into node matrices and cameras.
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
@@ -123,99 +123,6 @@ struct Camera {
 // straight up or down, image x is world x.
 Eigen::Matrix4d CamFromWorldLookingAt(const Eigen::Vector3d& eye, const Eigen::Vector3d& target);
 
-struct LikelihoodSettings {
-  std::string kind = "surface";  // "surface" | "image"
-  double sigma = 8.0;            // noise sd on the 0–255 scale
-  // `"sigma": "auto"` (the default): the run estimates σ from the data. `sigma` then keeps
-  // its default, which a consumer that cannot estimate σ may use.
-  bool sigma_auto = true;
-  std::string weights = "angle"; // "uniform" | "angle"
-  // Atlas side in texels and pyramid levels; 0 = "auto" (the default), sized from the
-  // cameras' footprint of the surface by ResolveAutoLikelihood (engine/geometry/
-  // AtlasFootprint.h), which every command that builds a likelihood calls after loading.
-  int atlas = 0;
-  int levels = 0;
-  // How the atlas shares its texels among the faces (engine/geometry/Atlas.h): "area" (the
-  // default), the same texels per metre everywhere; "pixels", in proportion to the pixels
-  // each face covers in the camera that sees it largest at the initial values, so surface
-  // the photographs show in detail is not starved by a wide ground they see obliquely.
-  std::string charts = "area";
-  // Per-camera colour correction of the surface likelihood: "none", "gain" or "affine"
-  // (pipelines/model/Photometric.h).
-  std::string photometric = "affine";
-  // Whether each hypothesis of a batch gets its own GPU images: "auto" | "shared" | "per_slot"
-  // (pipelines/likelihood/SurfaceLikelihood.h, SlotImages).
-  std::string slot_images = "auto";
-  // Mask what the photographs show that the scene leaves out, found at the mode a run
-  // settles on (pipelines/likelihood/ClutterMasks.h).
-  bool clutter = true;
-  // The edge term of the surface likelihood (pipelines/model/EdgeEvidence.h): the model's
-  // contours and creases should lie on the photographs' edges.
-  bool edges = false;
-  // Texels per side of the blocks behind κ, the sandwich factor (pipelines/likelihood/
-  // NoiseCalibration.h): 8, 16, 32 or 64; 0 ("auto", the default) takes the largest κ over
-  // those sizes.
-  int sandwich_blocks = 0;
-  // How the sandwich adjusts the log-likelihood (NoiseCalibration.h): "magnitude" divides it
-  // by κ, the mean of H⁻¹J's eigenvalues, in every direction alike; "curvature" gives each
-  // direction its own factor, so the posterior's covariance is the sandwich H⁻¹JH⁻¹.
-  std::string sandwich_adjustment = "magnitude";
-  // κ, the factor the log-likelihood is divided by. A number fixes it, so that runs of several
-  // scenes score one likelihood (`vkrecon compare`, docs/guide/WHICH_SCENE.md); 0 estimates it
-  // at the mode as `kappa_estimate` says: "sandwich" by the block sandwich (NoiseCalibration.h),
-  // "noise" from the residuals' own correlation (NoiseCorrelation.h), "auto" (the default)
-  // samples with the sandwich's and states the intervals at the noise's where the diagnosis
-  // finds no model error (recon/NoiseIntervals.h).
-  double kappa = 0.0;
-  std::string kappa_estimate = "auto";
-  // δ in pixels, the noise's texture term (σ² + δ²|∇I|²): used as given with a fixed `sigma`,
-  // estimated with it under "auto".
-  double position_sd = 0.5;
-  // The image-space likelihood only (docs/internals/IMAGE_SPACE.md): 0 compares every ordered
-  // camera pair; k > 0 each target camera with its k best sources, ranked by `partner_ranking`
-  // ("distance": nearest centres, "direction": most similar optical axes).
-  int partners = 0;
-  std::string partner_ranking = "distance";
-};
-
-// sampler.time_limit's default: a run a user starts at a desk ends within minutes on a CPU
-// device (lavapipe), converged or not; the report and the diagnosis say which.
-constexpr double kDefaultTimeLimit = 240.0;
-
-// The most hypotheses one submission may take (sampler.batch; SceneLoader.cpp says why).
-constexpr int kMaxSamplerBatch = 4096;
-
-struct SamplerSettings {
-  // `"iterations": "auto"` (the default): sample until the chains converge (R̂ ≤ 1.01,
-  // bulk-ESS ≥ 400) or time_limit; `iterations` then lays out the exploration and burn-in
-  // only (SamplerOptions::until_converged). A number: exactly that many.
-  bool iterations_auto = true;
-  int iterations = 600;
-  // Seconds the sampling may take before it ends where it is (0 = none; below 0, the
-  // default: kDefaultTimeLimit with "auto" iterations, none with a fixed count). The
-  // refinement and the outputs come after it.
-  double time_limit = -1.0;
-  double TimeLimit() const { return time_limit >= 0.0 ? time_limit : iterations_auto ? kDefaultTimeLimit : 0.0; }
-  int chains = 4;
-  int batch = 16;
-  std::uint64_t seed = 1;
-  // Any further fields of the scene's "sampler" object as JSON text ("{}" when none):
-  // SamplerOptions by name, validated by `vkrecon run` (docs/guide/SCENE_FORMAT.md).
-  std::string options_json = "{}";
-};
-
-// How `vkrecon synth` renders the scene unless its command line says otherwise: reference
-// images that look like photographs (a sun with cast shadows, exposure that differs between
-// cameras, anti-aliasing). The defaults draw the albedo as it is, as earlier versions did.
-struct SynthSettings {
-  bool sun = false;              // light the scene with a sun and ambient sky light
-  double sun_azimuth = 135.0;    // degrees, from +x towards +y
-  double sun_elevation = 50.0;   // degrees above the horizon
-  double ambient = 0.3;          // share of the light that comes from the sky, on every face
-  double exposure = 0.0;         // spread of each camera's exposure (gain ±spread, see Exposure.h)
-  int supersample = 1;           // samples per pixel along each axis (anti-aliasing)
-};
-
 // `--set PATH=VALUE` overrides, applied to the JSON before it is interpreted.
 struct SceneOverride {
   std::string path;   // dotted path, e.g. "likelihood.sigma" or "sampler.seed"
@@ -240,9 +147,10 @@ class Scene {
   std::vector<Parameter> parameters;
   std::vector<Node> nodes;
   std::vector<CameraModel> cameras;
-  LikelihoodSettings likelihood;
-  SamplerSettings sampler;
-  SynthSettings synth;
+  // The settings blocks ("likelihood", "sampler", "synth") as JSON text, as the file and its
+  // overrides wrote them; absent where the file has none. Each belongs to the layer that uses
+  // it, which reads it with a SettingsReader (SettingsReader.h says which type is whose).
+  std::map<std::string, std::string> settings;
 
   int ParameterIndex(const std::string& name) const;  // -1 if absent
   std::vector<double> InitialValues() const;

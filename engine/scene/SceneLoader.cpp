@@ -64,169 +64,6 @@ Parameter ReadParameter(const Reader& r, const std::string& name, const Json& j)
   return p;
 }
 
-// A field that takes a word instead of a number: whether `j` is that word; another
-// string fails naming what the field takes.
-bool IsWord(const Reader& r, const Json& j, const std::string& path, const char* word, const char* number) {
-  if (!j.is_string()) return false;
-  if (j.get<std::string>() == word) return true;
-  r.Fail(path, std::string("expected ") + number + " or \"" + word + "\", got '" + j.get<std::string>() + "'");
-}
-
-void ReadLikelihood(const Reader& r, const Json& j, LikelihoodSettings& s) {
-  const std::string path = "likelihood";
-  r.CheckObject(j, path, {"kind", "sigma", "weights", "atlas", "levels", "charts", "photometric", "clutter", "edges", "slot_images",
-                         "partners", "partner_ranking", "sandwich_blocks", "sandwich_adjustment", "kappa",
-                         "position_sd"});
-  if (auto it = j.find("kind"); it != j.end()) {
-    s.kind = r.String(*it, "likelihood.kind");
-    if (s.kind != "surface" && s.kind != "image")
-      r.Fail("likelihood.kind", "unknown kind '" + s.kind + "' (surface, image)");
-  }
-  if (auto it = j.find("sigma"); it != j.end()) {
-    if (it->is_string() && it->get<std::string>() == "auto") {
-      s.sigma_auto = true;
-    } else {
-      s.sigma_auto = false;
-      s.sigma = r.Number(*it, "likelihood.sigma");
-      if (!(s.sigma > 0)) r.Fail("likelihood.sigma", "sigma " + Num(s.sigma) + " must be > 0");
-    }
-  }
-  if (auto it = j.find("weights"); it != j.end()) {
-    s.weights = r.String(*it, "likelihood.weights");
-    if (s.weights != "uniform" && s.weights != "angle")
-      r.Fail("likelihood.weights", "unknown weights '" + s.weights + "' (uniform, angle)");
-  }
-  if (auto it = j.find("atlas"); it != j.end() && IsWord(r, *it, "likelihood.atlas", "auto", "a power of two")) {
-    s.atlas = 0;
-  } else if (it != j.end()) {
-    s.atlas = int(r.Integer(*it, "likelihood.atlas", 64, 8192));
-    if (s.atlas & (s.atlas - 1))
-      r.Fail("likelihood.atlas", "atlas " + std::to_string(s.atlas) + " is not a power of two");
-  }
-  if (auto it = j.find("levels"); it != j.end() && IsWord(r, *it, "likelihood.levels", "auto", "an integer"))
-    s.levels = 0;
-  else if (it != j.end())
-    s.levels = int(r.Integer(*it, "likelihood.levels", 1, 8));
-  if (auto it = j.find("charts"); it != j.end()) {
-    s.charts = r.String(*it, "likelihood.charts");
-    if (s.charts != "area" && s.charts != "pixels")
-      r.Fail("likelihood.charts", "unknown chart sizing '" + s.charts + "' (area, pixels)");
-  }
-  if (auto it = j.find("slot_images"); it != j.end()) {
-    s.slot_images = r.String(*it, "likelihood.slot_images");
-    if (s.slot_images != "auto" && s.slot_images != "shared" && s.slot_images != "per_slot")
-      r.Fail("likelihood.slot_images", "unknown value '" + s.slot_images + "' (auto, shared, per_slot)");
-  }
-  if (auto it = j.find("photometric"); it != j.end()) {
-    s.photometric = r.String(*it, "likelihood.photometric");
-    if (s.photometric != "none" && s.photometric != "gain" && s.photometric != "affine")
-      r.Fail("likelihood.photometric", "unknown photometric model '" + s.photometric + "' (none, gain, affine)");
-  }
-  if (auto it = j.find("clutter"); it != j.end()) {
-    if (!it->is_boolean()) r.Fail("likelihood.clutter", "expected true or false");
-    s.clutter = it->get<bool>();
-  }
-  if (auto it = j.find("edges"); it != j.end()) {
-    if (!it->is_boolean()) r.Fail("likelihood.edges", "expected true or false");
-    s.edges = it->get<bool>();
-  }
-  if (auto it = j.find("sandwich_blocks"); it != j.end() &&
-                                             IsWord(r, *it, "likelihood.sandwich_blocks", "auto", "8, 16, 32 or 64")) {
-    s.sandwich_blocks = 0;
-  } else if (it != j.end()) {
-    s.sandwich_blocks = int(r.Integer(*it, "likelihood.sandwich_blocks", 8, 64));
-    if (s.sandwich_blocks & (s.sandwich_blocks - 1))
-      r.Fail("likelihood.sandwich_blocks", "blocks of " + std::to_string(s.sandwich_blocks) +
-                                               " texels: expected 8, 16, 32, 64 or \"auto\"");
-  }
-  if (auto it = j.find("sandwich_adjustment"); it != j.end()) {
-    s.sandwich_adjustment = r.String(*it, "likelihood.sandwich_adjustment");
-    if (s.sandwich_adjustment != "magnitude" && s.sandwich_adjustment != "curvature")
-      r.Fail("likelihood.sandwich_adjustment",
-             "unknown adjustment '" + s.sandwich_adjustment + "' (magnitude, curvature)");
-  }
-  if (auto it = j.find("kappa"); it != j.end() && it->is_string() &&
-                                 (*it == "sandwich" || *it == "noise")) {
-    s.kappa = 0.0;
-    s.kappa_estimate = it->get<std::string>();
-  } else if (it != j.end() && IsWord(r, *it, "likelihood.kappa", "auto", "a number, \"sandwich\", \"noise\"")) {
-    s.kappa = 0.0;
-    s.kappa_estimate = "auto";
-  } else if (it != j.end()) {
-    s.kappa_estimate = "auto";
-    s.kappa = r.Number(*it, "likelihood.kappa");
-    if (!(s.kappa > 0.0 && s.kappa < 1e9)) r.Fail("likelihood.kappa", "kappa " + Num(s.kappa) + " must be > 0 (or \"auto\", \"sandwich\", \"noise\")");
-  }
-  if (auto it = j.find("position_sd"); it != j.end()) {
-    s.position_sd = r.Number(*it, "likelihood.position_sd");
-    if (!(s.position_sd >= 0.0 && s.position_sd <= 10.0))
-      r.Fail("likelihood.position_sd", "position_sd " + Num(s.position_sd) + " must be in [0, 10] pixels");
-  }
-  // Whether k exceeds the other cameras is checked where the cameras are known
-  // (ImageLikelihoodOptions::FromScene).
-  if (auto it = j.find("partners"); it != j.end()) s.partners = int(r.Integer(*it, "likelihood.partners", 0, INT_MAX));
-  if (auto it = j.find("partner_ranking"); it != j.end()) {
-    s.partner_ranking = r.String(*it, "likelihood.partner_ranking");
-    if (s.partner_ranking != "distance" && s.partner_ranking != "direction")
-      r.Fail("likelihood.partner_ranking", "unknown ranking '" + s.partner_ranking + "' (distance, direction)");
-  }
-  if (s.edges && s.kind == "image")
-    r.Fail("likelihood.edges", "the image-space likelihood has no edge term (the surface likelihood has)");
-}
-
-void ReadSampler(const Reader& r, const Json& j, SamplerSettings& s) {
-  if (!j.is_object()) r.Fail("sampler", "must be an object");
-  // The four every command needs are read here; the sampler's other options (optimiser/
-  // SamplerOptions.h) travel as text and are checked by `vkrecon run`, which knows them.
-  Json rest = j;
-  for (const char* key : {"iterations", "chains", "batch", "seed", "time_limit"}) rest.erase(key);
-  s.options_json = rest.dump();
-  if (auto it = j.find("iterations"); it != j.end() && IsWord(r, *it, "sampler.iterations", "auto", "an integer")) {
-    s.iterations_auto = true;
-  } else if (it != j.end()) {
-    s.iterations_auto = false;
-    s.iterations = int(r.Integer(*it, "sampler.iterations", 1, INT_MAX));
-  }
-  if (auto it = j.find("time_limit"); it != j.end() && IsWord(r, *it, "sampler.time_limit", "none", "seconds")) {
-    s.time_limit = 0.0;
-  } else if (it != j.end()) {
-    s.time_limit = r.Number(*it, "sampler.time_limit");
-    if (!(s.time_limit > 0.0 && s.time_limit < 1e9))
-      r.Fail("sampler.time_limit", "time limit " + Num(s.time_limit) + " s must be > 0 (or \"none\")");
-  }
-  if (auto it = j.find("chains"); it != j.end())
-    s.chains = int(r.Integer(*it, "sampler.chains", 1, INT_MAX));
-  // A frame proposes chains × temperatures = batch hypotheses in one submission, each with
-  // its own buffers: 4,096 already take minutes per frame on lavapipe and a second on a
-  // large GPU; more can never be a useful ladder, only a run that looks hung.
-  if (auto it = j.find("batch"); it != j.end())
-    s.batch = int(r.Integer(*it, "sampler.batch", 1, kMaxSamplerBatch));
-  if (auto it = j.find("seed"); it != j.end())
-    s.seed = std::uint64_t(r.Integer(*it, "sampler.seed", 0, LLONG_MAX));
-}
-
-void ReadSynth(const Reader& r, const Json& j, SynthSettings& s) {
-  r.CheckObject(j, "synth", {"sun", "ambient", "exposure", "supersample"});
-  if (auto it = j.find("sun"); it != j.end()) {
-    if (!it->is_array() || it->size() != 2) r.Fail("synth.sun", "expected [azimuth, elevation] in degrees");
-    s.sun = true;
-    s.sun_azimuth = r.Number((*it)[0], "synth.sun[0]");
-    s.sun_elevation = r.Number((*it)[1], "synth.sun[1]");
-    if (!(s.sun_elevation > 0 && s.sun_elevation <= 90))
-      r.Fail("synth.sun[1]", "elevation " + Num(s.sun_elevation) + " must be in (0, 90] degrees");
-  }
-  if (auto it = j.find("ambient"); it != j.end()) {
-    s.ambient = r.Number(*it, "synth.ambient");
-    if (!(s.ambient >= 0 && s.ambient <= 1)) r.Fail("synth.ambient", "ambient " + Num(s.ambient) + " must be in [0, 1]");
-  }
-  if (auto it = j.find("exposure"); it != j.end()) {
-    s.exposure = r.Number(*it, "synth.exposure");
-    if (!(s.exposure >= 0 && s.exposure < 1)) r.Fail("synth.exposure", "exposure spread " + Num(s.exposure) + " must be in [0, 1)");
-  }
-  if (auto it = j.find("supersample"); it != j.end())
-    s.supersample = int(r.Integer(*it, "synth.supersample", 1, 8));
-}
-
 PrimitiveKind ReadPrimitive(const Reader& r, const Json& j, const std::string& path, Node& node) {
   if (j.is_object()) {
     r.CheckObject(j, path, {"mesh"});
@@ -363,10 +200,13 @@ Scene LoadScene(const std::filesystem::path& file, const std::vector<SceneOverri
   r.table = table.get();
   SceneAccess::SetExpressions(scene, std::move(table));
 
-  if (auto it = root.find("likelihood"); it != root.end())
-    ReadLikelihood(r, *it, scene.likelihood);
-  if (auto it = root.find("sampler"); it != root.end()) ReadSampler(r, *it, scene.sampler);
-  if (auto it = root.find("synth"); it != root.end()) ReadSynth(r, *it, scene.synth);
+  // The settings blocks are read by the layers they belong to (SettingsReader.h).
+  for (const char* block : {"likelihood", "sampler", "synth"}) {
+    const auto it = root.find(block);
+    if (it == root.end()) continue;
+    if (!it->is_object()) r.Fail(block, "expected an object");
+    scene.settings[block] = it->dump();
+  }
   if (auto it = root.find("nodes"); it != root.end()) ReadNodes(r, *it, scene.nodes);
   if (auto it = root.find("cameras"); it != root.end())
     ReadCameras(*it, r, options.require_images, scene);

@@ -7,7 +7,7 @@
 #include <stdexcept>
 
 #include "engine/common/InputError.h"
-#include "engine/geometry/AtlasFootprint.h"
+#include "pipelines/model/LikelihoodSettings.h"
 #include "engine/geometry/SceneGeometry.h"
 #include "engine/image/Pyramid.h"
 #include "engine/vk/Commands.h"
@@ -21,15 +21,6 @@
 #include "pipelines/passes/Projection.h"
 
 namespace vkr {
-
-const char* ToString(PartnerRanking r) { return r == PartnerRanking::Distance ? "distance" : "direction"; }
-
-bool FromString(const std::string& s, PartnerRanking* r) {
-  if (s == "distance") *r = PartnerRanking::Distance;
-  else if (s == "direction") *r = PartnerRanking::Direction;
-  else return false;
-  return true;
-}
 
 std::vector<CameraPair> SelectPairs(const std::vector<Camera>& cameras, int partners, PartnerRanking ranking) {
   const int n = int(cameras.size());
@@ -71,19 +62,18 @@ bool ImageLikelihoodOptions::IsValid(std::string* why) const {
 }
 
 ImageLikelihoodOptions ImageLikelihoodOptions::FromScene(const Scene& scene) {
+  const LikelihoodSettings settings = ResolvedLikelihood(scene);
   ImageLikelihoodOptions o;
-  o.model.sigma = scene.likelihood.sigma;
-  o.position_sd = scene.likelihood.position_sd;
-  o.levels = ResolvedLikelihood(scene).levels;
-  o.max_batch = scene.sampler.batch;
-  o.partners = scene.likelihood.partners;
+  o.model.sigma = settings.sigma;
+  o.position_sd = settings.position_sd;
+  o.levels = settings.levels;
+  o.partners = settings.partners;
+  o.ranking = settings.partner_ranking;
   const int others = int(scene.cameras.size()) - 1;
   if (o.partners > others)
     throw InputError(scene.file.string(), "likelihood.partners",
                      std::to_string(o.partners) + " partners, but each camera has " + std::to_string(others) +
                          " others (0 compares all pairs)");
-  if (!FromString(scene.likelihood.partner_ranking, &o.ranking))
-    throw InputError(scene.file.string(), "likelihood.partner_ranking", "must be distance or direction");
   return o;
 }
 
@@ -162,7 +152,7 @@ struct ImageLikelihood::Impl {
       : device(&d),
         scene(&s),
         options(WithoutUnverifiedCharge(o)),
-        geometry(BuildSceneGeometry(s, s.InitialValues(), kImageUnusedAtlas)),
+        geometry(BuildSceneGeometry(s, s.InitialValues(), kImageUnusedAtlas, ChartSizing::Area)),
         transfer(d),
         context(d),
         gpu_scene(d, transfer, geometry, o.max_batch),

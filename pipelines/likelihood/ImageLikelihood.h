@@ -34,16 +34,9 @@
 #include "engine/scene/Scene.h"
 #include "engine/vk/Device.h"
 #include "pipelines/model/Evaluation.h"
+#include "pipelines/model/LikelihoodSettings.h"
 
 namespace vkr {
-
-// How a target camera's partners are ranked when only the best `partners` are compared.
-enum class PartnerRanking {
-  Distance,   // nearest camera centres first
-  Direction,  // most similar viewing directions (optical axes) first
-};
-const char* ToString(PartnerRanking r);
-bool FromString(const std::string& s, PartnerRanking* r);
 
 // An ordered camera pair: r_source is warped into target's view and compared with r_target.
 struct CameraPair {
@@ -74,8 +67,8 @@ struct ImageLikelihoodOptions {
 
   bool IsValid(std::string* why) const;
   // Reads σ, levels, partners and their ranking from the scene's "likelihood" settings
-  // (atlas and weights are the surface likelihood's and are ignored) and max_batch from
-  // sampler.batch. Throws InputError for more partners than a camera has.
+  // (atlas and weights are the surface likelihood's and are ignored); max_batch keeps its
+  // default. Throws InputError for more partners than a camera has.
   static ImageLikelihoodOptions FromScene(const Scene& scene);
 };
 

@@ -11,7 +11,6 @@
 #include <limits>
 #include <system_error>
 
-#include "engine/geometry/AtlasFootprint.h"
 #include "engine/common/InputError.h"
 #include "engine/image/ChiSquareRamp.h"
 #include "engine/image/LinePlot.h"
@@ -135,7 +134,7 @@ Session Open(const LikelihoodToolOptions& options) {
   s.scene = LoadScene(options.scene_file, options.overrides);
   ResolveAutoLikelihood(s.scene);
   s.at = s.scene.ValuesFromFile(options.at_file);
-  const int levels = s.scene.likelihood.levels;
+  const int levels = LikelihoodSettingsOf(s.scene).levels;
   if (options.level < 0 || options.level >= levels)
     throw InputError("", "--level", "level " + std::to_string(options.level) + " is outside [0, " +
                                         std::to_string(levels - 1) + "] (likelihood.levels is " +
@@ -232,8 +231,8 @@ std::string FileStem(std::string name) {
 }  // namespace
 
 std::unique_ptr<Likelihood> MakeLikelihood(vk::Device& device, const Scene& scene, const LikelihoodSetup& setup) {
-  const std::string& kind = scene.likelihood.kind;
-  if (kind == "surface") {
+  const LikelihoodKind kind = LikelihoodSettingsOf(scene).kind;
+  if (kind == LikelihoodKind::Surface) {
     SurfaceLikelihoodOptions options = SurfaceLikelihoodOptions::FromScene(scene);
     options.model.chi2_correction = setup.chi2_correction;
     options.max_batch = setup.max_batch;
@@ -242,7 +241,7 @@ std::unique_ptr<Likelihood> MakeLikelihood(vk::Device& device, const Scene& scen
     if (!options.IsValid(&why)) throw InputError(scene.file.string(), "likelihood", why);
     return std::make_unique<SurfaceAdapter>(device, scene, options);
   }
-  if (kind == "image") {
+  {
     ImageLikelihoodOptions options = ImageLikelihoodOptions::FromScene(scene);
     options.model.chi2_correction = setup.chi2_correction;
     options.max_batch = setup.max_batch;
@@ -251,14 +250,13 @@ std::unique_ptr<Likelihood> MakeLikelihood(vk::Device& device, const Scene& scen
     if (!options.IsValid(&why)) throw InputError(scene.file.string(), "likelihood", why);
     return std::make_unique<ImageAdapter>(device, scene, options);
   }
-  throw InputError(scene.file.string(), "likelihood.kind", "unknown kind '" + kind + "' (surface, image)");
 }
 
 LikelihoodReport EvaluateAt(const LikelihoodToolOptions& options, vk::Device& device) {
   if (options.profile && options.profile_repeats < 1)
     throw InputError("", "--profile", "needs at least one timed repetition");
   Session s = Open(options);
-  Build(s, device, options, options.profile ? std::max(1, s.scene.sampler.batch) : 1);
+  Build(s, device, options, options.profile ? std::max(1, options.batch) : 1);
 
   LikelihoodReport r;
   r.kind = s.likelihood->kind();
@@ -270,7 +268,8 @@ LikelihoodReport EvaluateAt(const LikelihoodToolOptions& options, vk::Device& de
     const LikelihoodDump dump = s.likelihood->EvaluateAndDump(s.at, &r.evaluation);
     r.dump_files = WriteDump(dump, *options.dump_dir);
     if (s.likelihood->kind() == "surface") {
-      const SceneGeometry geometry = BuildSceneGeometry(s.scene, s.scene.InitialValues(), s.scene.likelihood.atlas);
+      const LikelihoodSettings settings = LikelihoodSettingsOf(s.scene);
+      const SceneGeometry geometry = BuildSceneGeometry(s.scene, s.scene.InitialValues(), settings.atlas, settings.charts);
       const fs::path csv = *options.dump_dir / "nodes.csv";
       const Image *deviation = nullptr, *noise = nullptr;
       for (const DumpImage& d : dump.images) {
@@ -394,7 +393,7 @@ SweepResult Sweep(const LikelihoodToolOptions& options, const SweepSpec& spec, v
     throw InputError("", "--sweep", "the range [" + Number(spec.lo) + ", " + Number(spec.hi) + "] leaves the " +
                                         "support of '" + spec.parameter + "' (" + support + ")");
   }
-  const int batch = std::clamp(s.scene.sampler.batch, 1, spec.steps);
+  const int batch = std::clamp(options.batch, 1, spec.steps);
   Build(s, device, options, batch);
 
   SweepResult result;

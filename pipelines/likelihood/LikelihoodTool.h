@@ -42,10 +42,13 @@ struct LikelihoodToolOptions {
   bool chi2_correction = true;
   // EvaluateAt: also write every intermediate image here (see DumpEvaluation).
   std::optional<std::filesystem::path> dump_dir;
-  // EvaluateAt: also time `profile_repeats` evaluations of a batch of sampler.batch copies
-  // of the hypothesis, after one warm-up (the first submission compiles pipelines).
+  // EvaluateAt: also time `profile_repeats` evaluations of a batch of `batch` copies of the
+  // hypothesis, after one warm-up (the first submission compiles pipelines).
   bool profile = false;
   int profile_repeats = 5;
+  // Hypotheses per submission, for the profile and the sweep: `vkrecon likelihood` passes the
+  // scene's sampler.batch, as a run would evaluate them.
+  int batch = 1;
 };
 
 struct PassProfile {

@@ -5,7 +5,7 @@
 #include <stdexcept>
 
 #include "engine/common/InputError.h"
-#include "engine/geometry/AtlasFootprint.h"
+#include "pipelines/model/LikelihoodSettings.h"
 #include "engine/geometry/SceneGeometry.h"
 #include "engine/image/Pyramid.h"
 #include "engine/vk/Commands.h"
@@ -21,15 +21,6 @@
 #include "pipelines/passes/ViewTexturePass.h"
 
 namespace vkr {
-
-const char* ToString(ViewWeights w) { return w == ViewWeights::Uniform ? "uniform" : "angle"; }
-
-bool FromString(const std::string& s, ViewWeights* w) {
-  if (s == "uniform") *w = ViewWeights::Uniform;
-  else if (s == "angle") *w = ViewWeights::Angle;
-  else return false;
-  return true;
-}
 
 bool SurfaceLikelihoodOptions::IsValid(std::string* why) const {
   auto fail = [&](const std::string& w) {
@@ -50,18 +41,6 @@ bool SurfaceLikelihoodOptions::IsValid(std::string* why) const {
   return true;
 }
 
-const char* ToString(SlotImages s) {
-  return s == SlotImages::Shared ? "shared" : s == SlotImages::PerSlot ? "per_slot" : "auto";
-}
-
-bool FromString(const std::string& s, SlotImages* out) {
-  if (s == "auto") *out = SlotImages::Auto;
-  else if (s == "shared") *out = SlotImages::Shared;
-  else if (s == "per_slot") *out = SlotImages::PerSlot;
-  else return false;
-  return true;
-}
-
 SurfaceLikelihoodOptions ResolveSlotImages(const SurfaceLikelihoodOptions& options, const Scene& scene,
                                            const vk::Device& device) {
   SurfaceLikelihoodOptions o = options;
@@ -78,20 +57,17 @@ SurfaceLikelihoodOptions ResolveSlotImages(const SurfaceLikelihoodOptions& optio
 }
 
 SurfaceLikelihoodOptions SurfaceLikelihoodOptions::FromScene(const Scene& scene) {
+  const LikelihoodSettings settings = ResolvedLikelihood(scene);
   SurfaceLikelihoodOptions o;
-  o.model.sigma = scene.likelihood.sigma;
-  o.model.position_sd = scene.likelihood.position_sd;
-  if (!FromString(scene.likelihood.weights, &o.weights))
-    throw InputError(scene.file.string(), "likelihood.weights", "must be uniform or angle");
-  if (!FromString(scene.likelihood.photometric, &o.photometric))
-    throw InputError(scene.file.string(), "likelihood.photometric", "must be none, gain or affine");
-  const LikelihoodSettings resolved = ResolvedLikelihood(scene);
-  o.atlas = resolved.atlas;
-  o.levels = resolved.levels;
-  o.max_batch = scene.sampler.batch;
-  o.edges = scene.likelihood.edges;
-  if (!FromString(scene.likelihood.slot_images, &o.slot_images))
-    throw InputError(scene.file.string(), "likelihood.slot_images", "must be auto, shared or per_slot");
+  o.model.sigma = settings.sigma;
+  o.model.position_sd = settings.position_sd;
+  o.weights = settings.weights;
+  o.photometric = settings.photometric;
+  o.atlas = settings.atlas;
+  o.levels = settings.levels;
+  o.charts = settings.charts;
+  o.edges = settings.edges;
+  o.slot_images = settings.slot_images;
   return o;
 }
 
@@ -156,7 +132,7 @@ struct SurfaceLikelihood::Impl {
       : device(&d),
         scene(&s),
         options(o),
-        geometry(BuildSceneGeometry(s, s.InitialValues(), o.atlas)),
+        geometry(BuildSceneGeometry(s, s.InitialValues(), o.atlas, o.charts)),
         transfer(d),
         context(d),
         gpu_scene(d, transfer, geometry, o.max_batch),

@@ -19,27 +19,16 @@
 #include "engine/vk/Device.h"
 #include "pipelines/model/EdgeEvidence.h"
 #include "pipelines/model/Evaluation.h"
+#include "pipelines/model/LikelihoodSettings.h"
 #include "pipelines/model/Photometric.h"
 
 namespace vkr {
-
-enum class ViewWeights { Uniform, Angle };
-const char* ToString(ViewWeights w);
-bool FromString(const std::string& s, ViewWeights* w);
-
-// Where the hypotheses of one submission write their depth maps, view layers and interior
-// mask: one set shared by all (they run one after the other, ordered by barriers) or one
-// set per hypothesis slot (memory × K; a GPU may then overlap the hypotheses of a batch).
-// Auto: per slot on a GPU where it fits, shared on a CPU device. Results are the same to the
-// bit either way.
-enum class SlotImages { Auto, Shared, PerSlot };
-const char* ToString(SlotImages s);
-bool FromString(const std::string& s, SlotImages* out);
 
 struct SurfaceLikelihoodOptions {
   LikelihoodModel model;
   ViewWeights weights = ViewWeights::Angle;  // §6.3
   int atlas = 1024;       // atlas side at level 0 (coarser levels use atlas >> level)
+  ChartSizing charts = ChartSizing::Area;  // how the atlas shares its texels among the faces
   int levels = 3;         // image pyramid levels built at creation
   int max_batch = 16;     // the most hypotheses one Evaluate() takes
   // Relative depth tolerance of the shadow-map visibility test (a slope term is added).
@@ -58,7 +47,9 @@ struct SurfaceLikelihoodOptions {
   EdgeModel edge_model;
 
   bool IsValid(std::string* why) const;
-  // Reads σ, weights, atlas, levels, the photometric model and the edge term from the scene's "likelihood" settings.
+  // Reads σ, weights, atlas, levels, charts, the photometric model and the edge term from the
+  // scene's "likelihood" settings (LikelihoodSettings.h; "auto" resolved). max_batch keeps its
+  // default: the caller's sampler decides it.
   static SurfaceLikelihoodOptions FromScene(const Scene& scene);
 };
 

@@ -1,4 +1,6 @@
 #include "pipelines/rendering/ViewRendering.h"
+#include "pipelines/model/LikelihoodSettings.h"
+#include "pipelines/rendering/SynthSettings.h"
 
 #include <algorithm>
 #include <cmath>
@@ -101,7 +103,7 @@ namespace {
 
 // The effective photograph settings: the scene's `synth` block under the options' overrides.
 SynthSettings EffectiveSynth(const Scene& scene, const SynthOptions& o) {
-  SynthSettings s = scene.synth;
+  SynthSettings s = SynthSettingsOf(scene);
   if (o.sun) s.sun = *o.sun;
   if (o.sun_azimuth) s.sun_azimuth = *o.sun_azimuth;
   if (o.sun_elevation) s.sun_elevation = *o.sun_elevation;
@@ -170,7 +172,9 @@ SynthSummary SynthesiseImages(const SynthOptions& options, vk::Device& device) {
   if (!(settings.exposure >= 0.0 && settings.exposure < 1.0)) throw InputError("", "--exposure", "must be in [0, 1)");
   if (settings.supersample < 1 || settings.supersample > 8) throw InputError("", "--supersample", "must be in [1, 8]");
 
-  const SceneGeometry geometry = BuildSceneGeometry(scene, scene.InitialValues(), options.atlas);
+  // Charts as the scene's likelihood lays them out, so the truth's atlas is a run's, larger.
+  const SceneGeometry geometry =
+      BuildSceneGeometry(scene, scene.InitialValues(), options.atlas, LikelihoodSettingsOf(scene).charts);
   const Image atlas = BakeAlbedoAtlas(geometry.atlas, geometry.meshes, LoadAlbedos(scene));
   SceneDrawer drawer(device, geometry, atlas);
   const std::vector<Eigen::Matrix4d> world_from_node = scene.WorldFromNode(psi);
@@ -310,7 +314,8 @@ std::vector<fs::path> RenderViews(const RenderOptions& options, vk::Device& devi
     atlas_size = atlas.width;
   }
   // The same layout as the run that made the texture: decided at the initial values.
-  const SceneGeometry geometry = BuildSceneGeometry(scene, scene.InitialValues(), atlas_size);
+  const SceneGeometry geometry =
+      BuildSceneGeometry(scene, scene.InitialValues(), atlas_size, LikelihoodSettingsOf(scene).charts);
   if (!options.texture) atlas = BakeAlbedoAtlas(geometry.atlas, geometry.meshes, LoadAlbedos(scene));
 
   std::vector<Camera> views;

@@ -141,7 +141,7 @@ TEST(Diagnosis, NamesTheNodeThatDisagrees) {
   // them; with "auto" (the default) it has nothing to suggest.
   EXPECT_FALSE(Mentions(d, "sandwich_blocks"));
   Scene fixed = OneParameterScene();
-  fixed.likelihood.sandwich_blocks = 8;
+  fixed.settings["likelihood"] = R"({"sandwich_blocks": 8})";
   const auto with_fixed_blocks = [&](const Inputs& inputs) {
     return Diagnose(fixed, inputs.at_map, 8.0, inputs.summary, inputs.nodes, inputs.reprojections, inputs.clutter);
   };

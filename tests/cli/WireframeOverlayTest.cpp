@@ -48,7 +48,7 @@ void ExpectWireframeOnTheBox(vk::Device& device, const std::optional<LensDistort
                                                       {"images", (dir / "images").string()},
                                                       {"nodes", box_only.dump()}});
   const std::vector<double> truth = scene.ValuesFromFile(kBox / "truth.json");
-  const SceneGeometry geometry = BuildSceneGeometry(scene, truth, 64);
+  const SceneGeometry geometry = BuildSceneGeometry(scene, truth, 64, ChartSizing::Area);
 
   // A closed box: 12 edges and 6 face diagonals, each between two triangles; the 12 are creases.
   const std::vector<WireEdge> edges = SceneEdges(scene, geometry, truth);

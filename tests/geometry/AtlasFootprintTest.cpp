@@ -23,11 +23,10 @@ Scene LoadAsset(const std::string& name, std::vector<SceneOverride> overrides = 
 TEST(AtlasFootprint, TheBundledAssetsGetTheAtlasTheirStudyValidated) {
   for (const char* asset : {"box", "house", "stairs", "poster"}) {
     SCOPED_TRACE(asset);
-    Scene scene = LoadAsset(asset);
-    ASSERT_EQ(scene.likelihood.atlas, 0);  // "auto" until resolved
-    ResolveAutoLikelihood(scene);
-    EXPECT_EQ(scene.likelihood.atlas, 256);
-    EXPECT_EQ(scene.likelihood.levels, 3);
+    const Scene scene = LoadAsset(asset);
+    const int atlas = AutoAtlasSide(SurfaceFootprintPixels(scene, BuildMeshes(scene)));
+    EXPECT_EQ(atlas, 256);
+    EXPECT_EQ(AutoLevels(atlas), 3);
   }
 }
 
@@ -58,13 +57,9 @@ TEST(AtlasFootprint, SurfaceBehindTheCamerasCountsNothing) {
   EXPECT_EQ(SurfaceFootprintPixels(scene, meshes), 0.0);
 }
 
-// likelihood.charts "pixels" (AtlasFootprint.h): texels follow what the photographs show.
+// ChartSizing::Pixels, likelihood.charts "pixels" (AtlasFootprint.h): texels follow what the photographs show.
 TEST(AtlasFootprint, ChartDensitiesFollowThePixelsPerSquareMetre) {
-  {
-    const Scene area = LoadAsset("box");
-    EXPECT_TRUE(ChartDensities(area, BuildMeshes(area), area.InitialValues()).empty());  // "area"
-  }
-  const Scene scene = LoadAsset("box", {{"likelihood.charts", "pixels"}});
+  const Scene scene = LoadAsset("box");
   const std::vector<Mesh> meshes = BuildMeshes(scene);
   const std::vector<double> psi = scene.InitialValues();
   const std::vector<double> pixels = FacePixels(scene, meshes, psi);

@@ -43,7 +43,7 @@ Scene HouseScene() {
 
 TEST(SceneGeometry, FlattensNodesWithChartsAndNodeIndices) {
   const Scene scene = HouseScene();
-  const SceneGeometry g = BuildSceneGeometry(scene, {}, 512);
+  const SceneGeometry g = BuildSceneGeometry(scene, {}, 512, ChartSizing::Area);
   ASSERT_EQ(g.meshes.size(), 5u);
   EXPECT_TRUE(g.meshes[1].positions.empty());  // the transform-only node draws nothing
   size_t faces = 0, vertices = 0, indices = 0;
@@ -120,14 +120,14 @@ TEST(SceneGeometry, MeshNodesComeFromGltf) {
   Scene scene;
   scene.nodes.push_back(MakeNode("tri", PrimitiveKind::Mesh, -1, {}));
   scene.nodes[0].mesh = dir / "tri.glb";
-  const SceneGeometry g = BuildSceneGeometry(scene, {}, 64);
+  const SceneGeometry g = BuildSceneGeometry(scene, {}, 64, ChartSizing::Area);
   ASSERT_EQ(g.vertices.size(), 3u);
   EXPECT_EQ(g.atlas.charts.size(), 1u);
   EXPECT_FLOAT_EQ(g.vertices[1].position[0], 1.0f);
   EXPECT_FLOAT_EQ(g.vertices[2].position[2], 1.0f);  // glTF +y is vkrecon's +z
 
   scene.nodes[0].mesh = dir / "absent.glb";
-  EXPECT_THROW(BuildSceneGeometry(scene, {}, 64), InputError);
+  EXPECT_THROW(BuildSceneGeometry(scene, {}, 64, ChartSizing::Area), InputError);
 }
 
 TEST(SceneGeometry, LoadAlbedosNamesTheSceneEntry) {

@@ -33,6 +33,7 @@ std::vector<ParameterSpec> Parameters() {
 SamplerOptions Options() {
   SamplerOptions o;
   o.iterations = 300;
+  o.until_converged = false;
   o.chains = 3;
   o.temperatures = 3;
   o.init_jitter = 0.05;

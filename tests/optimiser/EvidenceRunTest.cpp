@@ -70,9 +70,12 @@ struct ClosedFormCase {
   std::string Name() const { return "d = " + std::to_string(d) + (normal_prior ? ", normal prior" : ", uniform prior"); }
 };
 
-// Default options but for the levels (the function has one) and the ladder.
+// Default options but for a fixed length of 4,000 iterations (EVIDENCE.md's validation), the
+// levels (the function has one) and the ladder.
 SamplerOptions LadderOptions(uint64_t seed, int rungs = 12) {
   SamplerOptions o;
+  o.iterations = 4000;
+  o.until_converged = false;
   o.coarse_levels = 1;
   o.refine_steps = 0;
   o.evidence_rungs = rungs;

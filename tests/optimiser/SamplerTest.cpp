@@ -38,6 +38,7 @@ TEST(Sampler, RecoversACorrelatedGaussianPosterior) {
   FunctionTarget target([&](const std::vector<double>& x, int) { return log_density(x); }, 16);
   SamplerOptions o;
   o.iterations = 6000;
+  o.until_converged = false;
   o.chains = 4;
   o.temperatures = 4;
   o.burn_in_fraction = 0.3;
@@ -110,6 +111,7 @@ SamplerSummary RunTwoModes(int temperatures, double initial_temperature, uint64_
   FunctionTarget target([](const std::vector<double>& x, int) { return TwoModes(x); }, 24);
   SamplerOptions o;
   o.iterations = 3000;
+  o.until_converged = false;
   o.chains = 4;
   o.temperatures = temperatures;
   o.temperature_ratio = 3.0;  // up to T = 243: the barrier is < 1 nat there
@@ -288,6 +290,7 @@ SamplerSummary SmallRun(uint64_t seed) {
       [&](const std::vector<double>& x, int level) { return log_density(x) / (1 + level); }, 8, 3);
   SamplerOptions o;
   o.iterations = 400;
+  o.until_converged = false;
   o.chains = 2;
   o.temperatures = 3;
   o.init_jitter = 0.05;
@@ -319,6 +322,7 @@ TEST(Sampler, EveryFrameIsOneBatchOfAtMostK) {
       params);
   SamplerOptions o;
   o.iterations = 300;
+  o.until_converged = false;
   o.chains = 2;
   o.temperatures = 4;  // 8 hypotheses per sampling frame
   o.proposal_scale = 0.5;
@@ -382,6 +386,7 @@ TEST(Sampler, UnscorableHypothesesAreRejected) {
       4);
   SamplerOptions o;
   o.iterations = 1000;
+  o.until_converged = false;
   o.chains = 2;
   o.temperatures = 2;
   o.coarse_levels = 1;
@@ -405,6 +410,7 @@ TEST(Sampler, GradientRefinementReachesTheOptimumOfAQuadratic) {
   FunctionTarget target([&](const std::vector<double>& x, int) { return log_density(x); }, 8);
   SamplerOptions o;
   o.iterations = 400;
+  o.until_converged = false;
   o.chains = 2;
   o.temperatures = 1;
   o.initial_temperature = 1.0;

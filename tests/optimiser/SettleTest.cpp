@@ -60,6 +60,7 @@ class CalibratingTarget : public Target {
 SamplerOptions NarrowOptions() {
   SamplerOptions o;
   o.iterations = 800;
+  o.until_converged = false;
   o.chains = 4;
   o.temperatures = 2;
   o.initial_temperature = 100.0;

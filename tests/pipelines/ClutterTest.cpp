@@ -90,8 +90,10 @@ TEST_F(GpuTest, CalibratingFindsTheSameClutterWhateverTheLastRoundMasked) {
   std::vector<double> truth;
   ShootBox(device(), {std::nullopt, true, 4.0}, dir, true, &truth);
   Scene scene = ReloadBox({std::nullopt, true, 4.0}, dir, false);
-  scene.likelihood.atlas = 128;
-  scene.likelihood.levels = 1;
+  nlohmann::json block = nlohmann::json::parse(scene.settings.count("likelihood") ? scene.settings["likelihood"] : "{}");
+  block["atlas"] = 128;
+  block["levels"] = 1;
+  scene.settings["likelihood"] = block.dump();
   const NoiseCalibration fresh = CalibrateNoise(*MakeLikelihood(device(), scene, {}), truth, {}, 1.0, true, true);
 
   // The same calibration by a likelihood alike but for the masks it starts with.

@@ -87,7 +87,7 @@ TEST_F(InteriorMask, AgreesWithTheReferenceWhereManyPrimitivesTouch) {
   options.atlas = 256;
   options.levels = 1;
   options.max_batch = 1;
-  const SceneGeometry geometry = BuildSceneGeometry(crowded.scene, crowded.scene.InitialValues(), options.atlas);
+  const SceneGeometry geometry = BuildSceneGeometry(crowded.scene, crowded.scene.InitialValues(), options.atlas, options.charts);
   const auto pyramids = LoadReferencePyramids(crowded.scene, 1);
   SurfaceLikelihood likelihood(device(), crowded.scene, options);
   // At the truth, and with the lone box pushed into the cluster.

@@ -175,7 +175,7 @@ TEST_F(Masks, GpuAppliesValidityAsTheCpuReference) {
     for (int w = 0; w < 2; ++w) {
       SurfaceLikelihoodOptions options = SurfaceOptions(scene, 3);
       options.weights = w ? ViewWeights::Angle : ViewWeights::Uniform;
-      const SceneGeometry geometry = BuildSceneGeometry(scene, scene.InitialValues(), options.atlas);
+      const SceneGeometry geometry = BuildSceneGeometry(scene, scene.InitialValues(), options.atlas, options.charts);
       SurfaceLikelihood likelihood(device(), scene, options);
       for (int level : {0, 1}) {
         surface[level] = SurfaceTexelCount(geometry, level);

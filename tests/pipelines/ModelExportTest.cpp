@@ -36,7 +36,7 @@ TEST_F(GpuTest, TexturedModelAndReprojectionsOfTheTruth) {
   SurfaceLikelihood likelihood(device(), scene, options);
   const Image raw = likelihood.EvaluateAndDump(truth).composite;
   const Image composite = DilateAtlas(raw);
-  const SceneGeometry geometry = BuildSceneGeometry(scene, scene.InitialValues(), options.atlas);
+  const SceneGeometry geometry = BuildSceneGeometry(scene, scene.InitialValues(), options.atlas, options.charts);
 
   // Dilation keeps every seen texel's colour and fills the texels beside the charts, so
   // bilinear filtering at a chart's border never reads black.

@@ -45,7 +45,7 @@ Drawn DrawBox(vk::Device& device) {
   Drawn d{LoadScene(dir / "scene.json", {}, load), {}, {}, {}};
   d.psi = d.scene.InitialValues();
   d.camera = d.scene.Cameras(d.psi)[0];
-  const SceneGeometry geometry = BuildSceneGeometry(d.scene, d.psi, 256);
+  const SceneGeometry geometry = BuildSceneGeometry(d.scene, d.psi, 256, ChartSizing::Area);
   vk::Transfer transfer(device);
   vk::CommandContext context(device);
   GpuScene gpu(device, transfer, geometry);

@@ -109,7 +109,7 @@ void ExpectScalarsAgree(const Scene& scene, const SurfaceLikelihoodOptions& opti
                         const std::vector<std::vector<Image>>& pyramids, Worst& worst) {
   std::vector<std::vector<double>> batch;
   for (const auto& h : hypotheses) batch.push_back(h.second);
-  const SceneGeometry geometry = BuildSceneGeometry(scene, scene.InitialValues(), options.atlas);
+  const SceneGeometry geometry = BuildSceneGeometry(scene, scene.InitialValues(), options.atlas, options.charts);
   SurfaceLikelihood likelihood(GpuTest::device(), scene, options);
   for (int level : {0, 1}) {
     likelihood.SetLevel(level);
@@ -156,7 +156,7 @@ TEST_F(SurfaceLikelihoodVsReference, ScalarsAgreeWithTheCpuReference) {
   const auto hypotheses = Hypotheses();
   const auto pyramids = LoadReferencePyramids(box.scene, GpuMipCount(box.scene));
   {
-    const SceneGeometry geometry = BuildSceneGeometry(box.scene, box.scene.InitialValues(), 128);
+    const SceneGeometry geometry = BuildSceneGeometry(box.scene, box.scene.InitialValues(), 128, ChartSizing::Area);
     EXPECT_GT(NearPlaneCrossings(box.scene, geometry, hypotheses[3].second, 0, 1), 0);
     EXPECT_EQ(NearPlaneCrossings(box.scene, geometry, hypotheses[0].second, 0, 1), 0);
   }
@@ -171,13 +171,14 @@ TEST_F(SurfaceLikelihoodVsReference, ScalarsAgreeWithTheCpuReference) {
 // it the LOD it is read at and its angle weight) must come from its own chart's texel area.
 TEST_F(SurfaceLikelihoodVsReference, ChartsSizedByThePixelsAgreeToo) {
   const Scene scene = LoadScene(Box().scene_file, {{"likelihood.charts", "pixels"}});
-  ASSERT_EQ(scene.likelihood.charts, "pixels");
   SurfaceLikelihoodOptions options = Options(ViewWeights::Angle);
+  options.charts = LikelihoodSettingsOf(scene).charts;
+  ASSERT_EQ(options.charts, ChartSizing::Pixels);
   // The faces the views barely see get charts a quarter as dense as the rest (AtlasFootprint.h):
   // at 128² those are a few texels, which halve at level 1 to where rasterisation's edge rules
   // and the reference's texel centres disagree on a share of them.
   options.atlas = 256;
-  const SceneGeometry geometry = BuildSceneGeometry(scene, scene.InitialValues(), options.atlas);
+  const SceneGeometry geometry = BuildSceneGeometry(scene, scene.InitialValues(), options.atlas, options.charts);
   double least = 1e30, most = 0.0;
   for (const Chart& c : geometry.atlas.charts) {
     least = std::min(least, c.texels_per_metre);
@@ -200,7 +201,7 @@ TEST_F(SurfaceLikelihoodVsReference, WithAColourCorrectionAndTextureNoiseTheySti
       correction.gain[size_t(i)][size_t(c)] = 0.85 + 0.07 * ((i + 2 * c) % 5);
       correction.offset[size_t(i)][size_t(c)] = 0.01 * ((3 * i + c) % 5 - 2);
     }
-  const SceneGeometry geometry = BuildSceneGeometry(box.scene, box.scene.InitialValues(), options.atlas);
+  const SceneGeometry geometry = BuildSceneGeometry(box.scene, box.scene.InitialValues(), options.atlas, options.charts);
   const auto pyramids = LoadReferencePyramids(box.scene, GpuMipCount(box.scene));
   SurfaceLikelihood likelihood(device(), box.scene, options);
   likelihood.SetPhotometric(correction);
@@ -231,7 +232,7 @@ TEST_F(SurfaceLikelihoodVsReference, WithAColourCorrectionAndTextureNoiseTheySti
 TEST_F(SurfaceLikelihoodVsReference, PerTexelAndPerViewDataAgree) {
   const SynthBoxScene& box = Box();
   const SurfaceLikelihoodOptions options = Options(ViewWeights::Angle);
-  const SceneGeometry geometry = BuildSceneGeometry(box.scene, box.scene.InitialValues(), options.atlas);
+  const SceneGeometry geometry = BuildSceneGeometry(box.scene, box.scene.InitialValues(), options.atlas, options.charts);
   const auto pyramids = LoadReferencePyramids(box.scene, GpuMipCount(box.scene));
   SurfaceLikelihood likelihood(device(), box.scene, options);
   const auto hypotheses = Hypotheses();
@@ -383,7 +384,7 @@ TEST_F(SurfaceLikelihoodVsReference, CullingWhatACameraCannotSeeChangesNothing) 
 // The composite visits only the workgroup tiles that touch a chart: every texel whose centre
 // lies on a triangle must be in one, at every level, and tiles off the charts are skipped.
 TEST_F(SurfaceLikelihoodVsReference, TheCompositeTilesCoverEverySurfaceTexel) {
-  const SceneGeometry geometry = BuildSceneGeometry(Box().scene, Box().truth, 128);
+  const SceneGeometry geometry = BuildSceneGeometry(Box().scene, Box().truth, 128, ChartSizing::Area);
   for (uint32_t lanes : {4u, 8u, 16u}) {
     for (int level : {0, 1, 2}) {
       SCOPED_TRACE("lanes " + std::to_string(lanes) + ", level " + std::to_string(level));

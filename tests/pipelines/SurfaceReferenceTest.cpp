@@ -80,7 +80,7 @@ TEST(SurfaceReference, BoxSeenFromAboveHidesTheGroundInItsShadow) {
   TempDir dir;
   const Scene scene = LoadWithoutImages(dir, kBoxFromAbove);
   const std::vector<double> psi = scene.InitialValues();
-  const SceneGeometry geometry = BuildSceneGeometry(scene, psi, 256);
+  const SceneGeometry geometry = BuildSceneGeometry(scene, psi, 256, ChartSizing::Area);
   const auto pyramids = GreyPyramids(scene, 1);
   SurfaceLikelihoodOptions options;
   ReferenceTexels texels;
@@ -146,7 +146,7 @@ TEST(SurfaceReference, InteriorTexelsAreTheContactAreasOfEveryPrimitive) {
   TempDir dir;
   const Scene scene = LoadWithoutImages(dir, kPrimitives);
   const std::vector<double> psi = scene.InitialValues();
-  const SceneGeometry geometry = BuildSceneGeometry(scene, psi, 256);
+  const SceneGeometry geometry = BuildSceneGeometry(scene, psi, 256, ChartSizing::Area);
   const auto pyramids = GreyPyramids(scene, 2);
   SurfaceLikelihoodOptions options;
   ReferenceTexels texels;
@@ -220,7 +220,7 @@ class SurfaceReferenceSynth : public GpuTest {
     return box;
   }
   static const SceneGeometry& Geometry() {
-    static const SceneGeometry g = BuildSceneGeometry(Box().scene, Box().scene.InitialValues(), 128);
+    static const SceneGeometry g = BuildSceneGeometry(Box().scene, Box().scene.InitialValues(), 128, ChartSizing::Area);
     return g;
   }
   static const std::vector<std::vector<Image>>& Pyramids() {

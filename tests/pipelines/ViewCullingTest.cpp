@@ -23,7 +23,7 @@ SceneGeometry OneNode(PrimitiveKind kind) {
   node.name = "node";
   node.primitive = kind;
   scene.nodes.push_back(node);
-  return BuildSceneGeometry(scene, {}, 256);
+  return BuildSceneGeometry(scene, {}, 256, ChartSizing::Area);
 }
 
 // A 640×480 camera at `centre` looking at `target`, z up.

@@ -41,11 +41,11 @@ TEST(NoiseIntervals, ModelErrorKeepsTheSandwichsWidth) {
 
 TEST(NoiseIntervals, SettingsAndMissingMeasurementsKeepTheChainsKappa) {
   LikelihoodSettings s;
-  s.kappa_estimate = "sandwich";
+  s.kappa_estimate = KappaEstimate::Sandwich;
   EXPECT_EQ(ChooseNoiseIntervals(s, Calibration(100.0, 4.0), Diagnosis::Verdict::Ok).scale, 1.0);
-  s.kappa_estimate = "noise";  // the chains sampled at it already
+  s.kappa_estimate = KappaEstimate::Noise;  // the chains sampled at it already
   EXPECT_EQ(ChooseNoiseIntervals(s, Calibration(4.0, 4.0), Diagnosis::Verdict::Ok).from, "chains");
-  s.kappa_estimate = "auto";
+  s.kappa_estimate = KappaEstimate::Auto;
   s.kappa = 12.0;
   EXPECT_EQ(ChooseNoiseIntervals(s, Calibration(12.0, 4.0), Diagnosis::Verdict::Ok).from, "fixed");
   const LikelihoodSettings defaults;

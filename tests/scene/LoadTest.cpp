@@ -64,13 +64,9 @@ TEST(Load, DesignExample) {
   EXPECT_EQ(s.images_dir, (dir.path() / "house/images").lexically_normal());
   ASSERT_EQ(s.cameras.size(), 1u);
   EXPECT_EQ(s.cameras[0].image, (dir.path() / "house/images/c1.pgm").lexically_normal());
-  EXPECT_EQ(s.likelihood.atlas, 1024);
-  EXPECT_EQ(s.likelihood.sandwich_blocks, 32);
-  EXPECT_EQ(s.likelihood.kappa, 12.5);
-  EXPECT_EQ(s.likelihood.position_sd, 0.25);
-  EXPECT_TRUE(s.likelihood.edges);
-  EXPECT_EQ(s.likelihood.charts, "pixels");
-  EXPECT_EQ(s.sampler.chains, 4);
+  // The settings blocks are kept for their layers (tests/recon/SceneSettingsTest.cpp).
+  EXPECT_EQ(Json::parse(s.settings.at("sampler")), Json::parse(R"({"iterations": 4000, "chains": 4, "batch": 16, "seed": 1})"));
+  EXPECT_EQ(s.settings.count("synth"), 0u);
 
   // At the initial values the box is w × d × h = 0.9 × 0.9 × 0.6, yaw 10°, and the roof
   // stands 0.325 (the centre of rh's prior) tall on top of it.
@@ -88,29 +84,7 @@ TEST(Load, DefaultsForMissingSections) {
   EXPECT_TRUE(s.nodes.empty());
   EXPECT_TRUE(s.cameras.empty());
   EXPECT_EQ(s.images_dir, dir.path().lexically_normal());
-  const LikelihoodSettings l;
-  EXPECT_EQ(s.likelihood.kind, l.kind);
-  EXPECT_EQ(s.likelihood.weights, l.weights);
-  EXPECT_EQ(s.likelihood.atlas, l.atlas);
-  EXPECT_EQ(s.likelihood.levels, l.levels);
-  EXPECT_EQ(s.likelihood.partners, 0);  // all pairs
-  EXPECT_EQ(s.likelihood.partner_ranking, "distance");
-  // The defaults a scene without settings gets (docs/guide/SCENE_FORMAT.md): σ, atlas, levels and
-  // the length all decided from the data.
-  EXPECT_TRUE(s.likelihood.sigma_auto);
-  EXPECT_EQ(s.likelihood.atlas, 0);
-  EXPECT_EQ(s.likelihood.levels, 0);
-  EXPECT_EQ(s.likelihood.sandwich_blocks, 0);  // "auto"
-  EXPECT_EQ(s.likelihood.kappa, 0.0);  // estimated at the mode
-  EXPECT_EQ(s.likelihood.kappa_estimate, "auto");
-  EXPECT_EQ(s.likelihood.position_sd, 0.5);
-  EXPECT_EQ(s.likelihood.charts, "area");
-  EXPECT_FALSE(s.likelihood.edges);  // until the noise study is measured with it
-  const SamplerSettings d;
-  EXPECT_EQ(s.sampler.iterations, d.iterations);
-  EXPECT_TRUE(s.sampler.iterations_auto);
-  EXPECT_EQ(s.sampler.TimeLimit(), kDefaultTimeLimit);
-  EXPECT_EQ(s.sampler.seed, d.seed);
+  EXPECT_TRUE(s.settings.empty());
   EXPECT_EQ(s.expressions().size(), 0);
 }
 
@@ -121,20 +95,6 @@ TEST(Load, NodeWithoutPrimitiveIsATransformNode) {
   const Scene s = LoadScene(WriteScene(dir, scene));
   EXPECT_EQ(s.nodes[2].primitive, PrimitiveKind::None);
   EXPECT_TRUE(s.nodes[2].transforms.empty());
-}
-
-TEST(Load, KappaIsEstimatedByTheSandwichFromTheNoiseOrFixed) {
-  TempDir dir;
-  Json scene = BaseScene();
-  for (const char* estimate : {"noise", "sandwich", "auto"}) {
-    scene["likelihood"] = Json{{"kappa", estimate}};
-    const Scene s = LoadScene(WriteScene(dir, scene));
-    EXPECT_EQ(s.likelihood.kappa_estimate, estimate);
-    EXPECT_EQ(s.likelihood.kappa, 0.0);
-  }
-  scene["likelihood"] = Json{{"kappa", 4}};
-  const Scene s = LoadScene(WriteScene(dir, scene));
-  EXPECT_EQ(s.likelihood.kappa, 4.0);
 }
 
 TEST(Load, ScenesMove) {

@@ -8,58 +8,9 @@
 namespace vkr::test {
 namespace {
 
-TEST(Override, SettingsByDottedPath) {
-  TempDir dir;
-  const auto file = WriteScene(dir, BaseScene());
-  const Scene plain = LoadScene(file);
-  EXPECT_EQ(plain.likelihood.sigma, 8.0);
-  EXPECT_EQ(plain.likelihood.kind, "surface");
-  EXPECT_EQ(plain.sampler.seed, 1u);
-
-  // likelihood and sampler are absent from the file: overriding creates them.
-  const Scene s = LoadScene(file, {{"likelihood.sigma", "4"},
-                                   {"sampler.seed", "7"},
-                                   {"likelihood.kind", "image"},
-                                   {"sampler.batch", "32"}});
-  EXPECT_EQ(s.likelihood.sigma, 4.0);
-  EXPECT_FALSE(s.likelihood.sigma_auto);  // a number replaces the default "auto"
-  EXPECT_EQ(s.sampler.seed, 7u);
-  EXPECT_EQ(s.likelihood.kind, "image");
-  EXPECT_EQ(s.sampler.batch, 32);
-  EXPECT_TRUE(s.sampler.iterations_auto);  // untouched defaults stay
-  EXPECT_EQ(s.likelihood.atlas, 0);
-
-  // "auto" and numbers for the length and the time limit.
-  const Scene fixed = LoadScene(file, {{"sampler.iterations", "300"}, {"sampler.time_limit", "90"}});
-  EXPECT_FALSE(fixed.sampler.iterations_auto);
-  EXPECT_EQ(fixed.sampler.iterations, 300);
-  EXPECT_EQ(fixed.sampler.TimeLimit(), 90.0);
-  const Scene fixed_unlimited = LoadScene(file, {{"sampler.iterations", "300"}});
-  EXPECT_EQ(fixed_unlimited.sampler.TimeLimit(), 0.0);  // a fixed count runs to its end
-  const Scene unlimited = LoadScene(file, {{"sampler.iterations", "auto"}, {"sampler.time_limit", "none"}});
-  EXPECT_TRUE(unlimited.sampler.iterations_auto);
-  EXPECT_EQ(unlimited.sampler.TimeLimit(), 0.0);
-}
-
-TEST(Override, LaterOverridesWinAndValuesAreValidated) {
-  TempDir dir;
-  Json scene = BaseScene();
-  scene["likelihood"] = Json{{"sigma", 2}};
-  const auto file = WriteScene(dir, scene);
-  EXPECT_EQ(LoadScene(file, {{"likelihood.sigma", "5"}, {"likelihood.sigma", "6"}}).likelihood.sigma,
-            6.0);
-  EXPECT_TRUE(FailsWith([&] { LoadScene(file, {{"likelihood.sigma", "-1"}}); },
-                        {"scene.json: likelihood.sigma", "must be > 0"}));
-  EXPECT_TRUE(FailsWith([&] { LoadScene(file, {{"likelihood.kind", "volume"}}); },
-                        {"likelihood.kind", "unknown kind"}));
-  EXPECT_TRUE(LoadScene(file, {{"likelihood.sigma", "auto"}}).likelihood.sigma_auto);
-}
-
 TEST(Override, UnknownKeyIsAnError) {
   TempDir dir;
   const auto file = WriteScene(dir, BaseScene());
-  EXPECT_TRUE(FailsWith([&] { LoadScene(file, {{"likelihood.sigmaa", "4"}}); },
-                        {"scene.json: likelihood.sigmaa: unknown key", "set by --set"}));
   EXPECT_TRUE(FailsWith([&] { LoadScene(file, {{"samplr.seed", "4"}}); },
                         {"samplr: unknown key"}));
 }
