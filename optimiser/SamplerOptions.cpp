@@ -149,6 +149,15 @@ nlohmann::json ToJson(const SamplerOptions& options) {
   return j;
 }
 
+namespace {
+
+// 2.0, which a JSON writer may give for 2 (but not 2.5, nor one beyond 2⁵³ where doubles skip).
+bool IntegralFloat(const nlohmann::json& j) {
+  if (!j.is_number_float()) return false;
+  const double v = j.get<double>();
+  return std::isfinite(v) && std::floor(v) == v && std::abs(v) < 9007199254740992.0;
+}
+
 // The words FromJson reads before the numbers: "iterations": "auto" and the time limit's
 // "auto" and "none". Returns the object without them; `error` set when a word is unknown.
 nlohmann::json ReadWords(const nlohmann::json& json, SamplerOptions* out, std::string* error) {
@@ -171,6 +180,8 @@ nlohmann::json ReadWords(const nlohmann::json& json, SamplerOptions* out, std::s
   return rest;
 }
 
+}  // namespace
+
 bool FromJson(const nlohmann::json& json, SamplerOptions* options, std::string* why) {
   if (!json.is_object()) return OptionsFail(why, "sampler options must be a JSON object");
   SamplerOptions out = *options;
@@ -192,10 +203,16 @@ bool FromJson(const nlohmann::json& json, SamplerOptions* options, std::string* 
       if (!it->is_boolean()) error = key + ": expected true or false";
       else field = it->template get<bool>();
     } else if constexpr (std::is_unsigned_v<T>) {
-      // nlohmann reads every non-negative integer as unsigned.
-      if (!it->is_number_unsigned()) error = key + ": expected an integer ≥ 0";
+      // nlohmann reads every non-negative integer as unsigned; 2.0 counts as 2, as everywhere
+      // in a scene file.
+      if (IntegralFloat(*it) && it->template get<double>() >= 0.0) field = T(it->template get<double>());
+      else if (!it->is_number_unsigned()) error = key + ": expected an integer ≥ 0";
       else field = it->template get<T>();
     } else if constexpr (std::is_integral_v<T>) {
+      if (IntegralFloat(*it) && std::abs(it->template get<double>()) <= double(std::numeric_limits<T>::max())) {
+        field = T(it->template get<double>());
+        return;
+      }
       const bool fits = it->is_number_unsigned()
                             ? it->template get<uint64_t>() <= uint64_t(std::numeric_limits<T>::max())
                             : it->is_number_integer() &&

@@ -36,7 +36,7 @@ TEST(SceneSettings, AsWritten) {
   Json scene = BaseScene();
   scene["likelihood"] = Json::parse(R"({"kind": "surface", "sigma": 8.0, "weights": "angle", "atlas": 1024,
       "levels": 3, "sandwich_blocks": 32, "charts": "pixels", "kappa": 12.5, "position_sd": 0.25, "edges": true})");
-  scene["sampler"] = Json::parse(R"({"iterations": 4000, "chains": 2, "batch": 16, "seed": 3})");
+  scene["sampler"] = Json::parse(R"({"iterations": 4000, "chains": 2.0, "batch": 16, "seed": 3})");  // 2.0 is 2
   scene["synth"] = Json::parse(R"({"sun": [90, 30], "supersample": 2})");
   const Settings s = LoadAll(WriteScene(dir, scene));
   EXPECT_EQ(s.likelihood.atlas, 1024);
