@@ -1,10 +1,10 @@
 #pragma once
 // A scene file's settings blocks belong to the layers that use them: "likelihood" to
-// LikelihoodSettings (pipelines/likelihood/LikelihoodSettings.h), "synth" to SynthSettings
-// (pipelines/rendering/SynthSettings.h), "sampler" to the sampler's options (optimiser/
-// SamplerOptions.h, read for a scene by recon/SamplerSettings.h). The scene keeps each block
-// as the file and its overrides wrote it (Scene::settings); a SettingsReader reads one, and
-// its errors name the scene file and the field as the loader's do.
+// LikelihoodSettings (pipelines/model/LikelihoodSettings.h), "synth" to SynthSettings
+// (pipelines/rendering/SynthSettings.h), "sampler" to opt::SamplerOptions (optimiser/
+// SamplerOptions.h; recon/SearchSetup.h's SamplerOptionsOf reads a scene's). The scene keeps
+// each block as the file and its overrides wrote it (Scene::settings); a SettingsReader reads
+// one, and its errors name the scene file and the field as the loader's do.
 
 #include <initializer_list>
 #include <set>
