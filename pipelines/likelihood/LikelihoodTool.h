@@ -28,7 +28,7 @@ struct LikelihoodSetup {
   bool profile = false;         // GPU timestamps around every pass
 };
 
-// The likelihood named by scene.likelihood.kind, built from the scene's settings
+// The likelihood the scene's "likelihood" block names (LikelihoodSettings::kind), built from its settings
 // (SurfaceLikelihoodOptions::FromScene for "surface") and `setup`. Throws InputError for a
 // kind that cannot be built and for settings the likelihood rejects.
 std::unique_ptr<Likelihood> MakeLikelihood(vk::Device& device, const Scene& scene,
