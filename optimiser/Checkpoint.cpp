@@ -106,6 +106,8 @@ json EvidenceToJson(const EvidenceState& e) {
   for (const Replica& r : e.rungs) j["rungs"].push_back(ReplicaToJson(r));
   j["guess"] = json::array();
   for (const Eigen::MatrixXd& m : e.guess) j["guess"].push_back(Matrix(m));
+  j["guess_centre"] = json::array();
+  for (const Eigen::VectorXd& c : e.guess_centre) j["guess_centre"].push_back(Vector(c));
   j["swap_attempts"] = e.swap_attempts;
   j["swap_accepts"] = e.swap_accepts;
   j["draws"] = json::array();
@@ -116,7 +118,8 @@ json EvidenceToJson(const EvidenceState& e) {
 EvidenceState EvidenceFromJson(const json& j, const State& s) {
   EvidenceState e;
   e.started = j.at("started").get<bool>();
-  if (!e.started) return e;
+  // A ladder from before its centres were kept starts afresh; the chains resume as they were.
+  if (!e.started || !j.contains("guess_centre")) return EvidenceState();
   const int d = s.dimension();
   e.start = ReadInteger<int>(j.at("start"));
   e.collect_from = ReadInteger<int>(j.at("collect_from"));
@@ -125,17 +128,19 @@ EvidenceState EvidenceFromJson(const json& j, const State& s) {
   const size_t rungs = e.beta.size();
   for (const json& jr : j.at("rungs")) e.rungs.push_back(ReplicaFromJson(jr, d));
   for (const json& m : j.at("guess")) e.guess.push_back(ReadMatrix(m, d));
+  for (const json& c : j.at("guess_centre")) e.guess_centre.push_back(ReadVector(c, d));
   e.swap_attempts = ReadIntegers<int64_t>(j.at("swap_attempts"));
   e.swap_accepts = ReadIntegers<int64_t>(j.at("swap_accepts"));
   for (const json& rung : j.at("draws")) e.draws.push_back(ReadNumbers(rung));
-  if (e.rungs.size() != rungs || e.guess.size() != rungs || e.draws.size() != rungs ||
+  if (e.rungs.size() != rungs || e.guess.size() != rungs || e.guess_centre.size() != rungs || e.draws.size() != rungs ||
       e.swap_attempts.size() != rungs - 1 || e.swap_accepts.size() != rungs - 1)
     throw std::invalid_argument("evidence: not one entry per rung of the options' ladder");
-  const size_t collected = size_t(std::max(0, s.iteration - e.collect_from));
-  if (e.start < 0 || e.start > s.iteration || e.collect_from < e.start)
+  e.every = s.options.evidence_every;
+  if (e.start < 0 || e.start > s.iteration || e.collect_from < e.start || (e.collect_from - e.start) % e.every != 0)
     throw std::invalid_argument("evidence: start or collect_from out of range");
+  const size_t collected = e.Recorded(s.iteration);
   for (const std::vector<double>& rung : e.draws)
-    if (rung.size() != collected) throw std::invalid_argument("evidence: not one draw per rung per iteration");
+    if (rung.size() != collected) throw std::invalid_argument("evidence: not one draw per rung per step");
   return e;
 }
 

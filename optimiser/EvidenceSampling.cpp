@@ -37,23 +37,47 @@ Eigen::MatrixXd PosteriorGuess(const State& s) {
   return cov;
 }
 
-// A power posterior's covariance when L is Gaussian with the guess's covariance: the
-// precisions add, β times the likelihood's and the prior's.
-std::vector<Eigen::MatrixXd> RungGuesses(const State& s, const std::vector<double>& beta) {
+// Where the chains say the posterior lies: settling's mode, else the coldest replica's
+// adapted mean, else its state.
+Eigen::VectorXd PosteriorCentre(const State& s) {
+  const int d = s.dimension();
+  if (int(s.mode.size()) == d) return Eigen::Map<const Eigen::VectorXd>(s.mode.data(), d);
+  const Replica& cold = s.chains[0].replicas[0];
+  if (cold.adapt_count > d + 1) return cold.adapt_mean;
+  return Eigen::Map<const Eigen::VectorXd>(cold.psi.data(), d);
+}
+
+// The prior's centre: a uniform's middle, a normal's mean (inside its bounds).
+double PriorCentre(const ParameterSpec& p) {
+  if (p.prior == PriorKind::Uniform) return 0.5 * (p.Lower() + p.Upper());
+  return std::clamp(p.a, p.Lower(), p.Upper());
+}
+
+// A power posterior's shape when L is Gaussian with the guess's covariance: the precisions
+// add, β times the likelihood's and the prior's, and the centre is their weighted mean.
+void GuessRungs(const State& s, EvidenceState& e) {
   const int d = s.dimension();
   const Eigen::MatrixXd precision = PosteriorGuess(s).inverse();
-  Eigen::VectorXd prior_precision(d);
-  for (int i = 0; i < d; ++i) prior_precision[i] = 1.0 / PriorVariance(s.parameters[size_t(i)]);
-  std::vector<Eigen::MatrixXd> out;
-  for (double b : beta) {
+  const Eigen::VectorXd mode = PosteriorCentre(s);
+  Eigen::VectorXd prior_precision(d), prior_centre(d);
+  for (int i = 0; i < d; ++i) {
+    prior_precision[i] = 1.0 / PriorVariance(s.parameters[size_t(i)]);
+    prior_centre[i] = PriorCentre(s.parameters[size_t(i)]);
+  }
+  e.guess.clear();
+  e.guess_centre.clear();
+  for (double b : e.beta) {
     Eigen::MatrixXd m = b * precision;
     m.diagonal() += prior_precision;
     Eigen::MatrixXd cov = m.inverse();
-    if (!cov.allFinite() || Eigen::LLT<Eigen::MatrixXd>(cov).info() != Eigen::Success)
+    Eigen::VectorXd centre = cov * (b * precision * mode + prior_precision.cwiseProduct(prior_centre));
+    if (!cov.allFinite() || !centre.allFinite() || Eigen::LLT<Eigen::MatrixXd>(cov).info() != Eigen::Success) {
       cov = prior_precision.cwiseInverse().cwiseMin(1e300).asDiagonal();
-    out.push_back(cov);
+      centre = b > 0.0 ? mode : prior_centre;
+    }
+    e.guess.push_back(cov);
+    e.guess_centre.push_back(centre);
   }
-  return out;
 }
 
 // An independent draw from the prior (normalised over its support), by rejection for a
@@ -80,10 +104,13 @@ void StartLadder(State& s, int t) {
   const int d = s.dimension();
   e.started = true;
   e.start = t;
-  e.collect_from = std::max(s.options.BurnIn(), t + 2 * s.options.adapt_min_samples);
+  e.every = s.options.evidence_every;
+  // Tuned for 2·adapt_min_samples iterations (not steps), recorded from a step on.
+  const int tuned = std::max(s.options.BurnIn(), t + 2 * s.options.adapt_min_samples);
+  e.collect_from = t + e.every * ((tuned - t + e.every - 1) / e.every);
   e.rng = Rng::ForStream(s.options.seed, kEvidenceStream);
   e.beta = EvidenceLadder(s.options.evidence_rungs, s.options.evidence_alpha);
-  e.guess = RungGuesses(s, e.beta);
+  GuessRungs(s, e);
   const Replica& cold = s.chains[0].replicas[0];
   e.rungs.clear();
   for (size_t k = 0; k < e.beta.size(); ++k) {
@@ -117,24 +144,40 @@ EvidenceProposal EvidenceProposals(State& s, int t, std::vector<std::vector<doub
     if (t < s.AdaptStart() || s.level != 0 || next_settle >= t) return {};
     StartLadder(s, t);
   }
+  if (!e.StepsAt(t)) return {};
   const int d = s.dimension();
   EvidenceProposal out;
   for (size_t k = 0; k < e.rungs.size(); ++k) {
     const Replica& r = e.rungs[k];
     Eigen::MatrixXd cov = e.guess[k];
+    Eigen::VectorXd centre = e.guess_centre[k];
     if (r.adapt_count >= s.options.adapt_min_samples) {
       // As Sampler's adaptation: the first guess counts as adapt_min_samples prior states.
       const double n0 = double(s.options.adapt_min_samples), n = double(r.adapt_count - 1);
       cov = (r.adapt_scatter + n0 * e.guess[k]) / (n + n0);
+      centre = (n * r.adapt_mean + n0 * e.guess_centre[k]) / (n + n0);
     }
     Eigen::LLT<Eigen::MatrixXd> llt(cov);
-    if (llt.info() != Eigen::Success) llt.compute(e.guess[k]);
-    Eigen::VectorXd z(d);
-    for (int i = 0; i < d; ++i) z[i] = e.rng.Normal();
-    const Eigen::VectorXd lz = llt.matrixL() * z;
-    const Eigen::VectorXd step = (2.38 / std::sqrt(double(d))) * std::exp(r.log_scale) * lz;
+    if (llt.info() != Eigen::Success) {
+      cov = e.guess[k];
+      llt.compute(cov);
+    }
+    // As the chains (SamplerOptions::independence_share): mostly independence draws from a
+    // t around the rung's centre, which for a near-Gaussian power posterior are nearly
+    // independent of the last state; else the random walk.
+    std::optional<Proposal> independent;
+    if (e.beta[k] > 0.0 && e.rng.Uniform() < s.options.independence_share)
+      independent = IndependenceDraw(centre, cov, r.psi, e.rng);
     std::vector<double> psi = r.psi;
-    for (int i = 0; i < d; ++i) psi[size_t(i)] += step[i];
+    if (independent) {
+      psi = independent->psi;
+    } else {
+      Eigen::VectorXd z(d);
+      for (int i = 0; i < d; ++i) z[i] = e.rng.Normal();
+      const Eigen::VectorXd lz = llt.matrixL() * z;
+      const Eigen::VectorXd step = (2.38 / std::sqrt(double(d))) * std::exp(r.log_scale) * lz;
+      for (int i = 0; i < d; ++i) psi[size_t(i)] += step[i];
+    }
     // At β = 0 the target is the prior itself: an independent draw from it is always
     // accepted, and every iteration brings a fresh state to the bottom of the ladder, which
     // the swaps carry up (a random walk there would mix over the whole prior slowly, and
@@ -145,6 +188,8 @@ EvidenceProposal EvidenceProposals(State& s, int t, std::vector<std::vector<doub
     out.psi.push_back(std::move(psi));
     out.log_prior.push_back(lp);
     out.from_prior.push_back(from_prior);
+    out.independent.push_back(independent.has_value());
+    out.log_q_ratio.push_back(independent ? independent->log_q_ratio : 0.0);
   }
   return out;
 }
@@ -161,8 +206,8 @@ void EvidenceStep(State& s, int t, EvidenceProposal proposal, const double* valu
     const bool scored = std::isfinite(lp) && std::isfinite(ll);
     const double current = Tempered(r.log_prior, r.log_likelihood, e.beta[k]);
     const bool accept = scored && (proposal.from_prior[k] || current == -kInf ||
-                                   log_u < Tempered(lp, ll, e.beta[k]) - current);
-    if (tuning)  // Robbins–Monro towards 0.234, as the chains' replicas during burn-in
+                                   log_u < Tempered(lp, ll, e.beta[k]) - current + proposal.log_q_ratio[k]);
+    if (tuning && !proposal.independent[k])  // Robbins–Monro towards 0.234, as the chains' replicas
       r.log_scale = std::clamp(r.log_scale + ((accept ? 1.0 : 0.0) - 0.234) / std::sqrt(double(r.proposed)),
                                -12.0, 3.0);
     if (accept) {
@@ -174,7 +219,7 @@ void EvidenceStep(State& s, int t, EvidenceProposal proposal, const double* valu
   }
   // Replica exchange, even and odd pairs in turn: swapping the states of β_k and β_k+1 has
   // log ratio (β_k+1 − β_k)(log L_k − log L_k+1); the prior cancels.
-  for (size_t k = size_t(t % 2); k + 1 < e.rungs.size(); k += 2) {
+  for (size_t k = size_t(e.Step(t) % 2); k + 1 < e.rungs.size(); k += 2) {
     Replica& low = e.rungs[k];
     Replica& high = e.rungs[k + 1];
     ++e.swap_attempts[k];

@@ -90,24 +90,29 @@ double LogT(const Eigen::LLT<Eigen::MatrixXd>& llt, const Eigen::VectorXd& centr
 
 // An independence draw; nullopt where there is no shape to draw from.
 std::optional<Proposal> Independent(const State& s, ChainState& chain, int k, double temperature) {
-  const int d = s.dimension();
   const Shape shape = ReplicaShape(s, chain.replicas[size_t(k)], temperature);
-  if (shape.covariance.size() == 0 || shape.centre.size() != d) return std::nullopt;
-  const Eigen::LLT<Eigen::MatrixXd> llt(kIndependenceScale * kIndependenceScale * shape.covariance);
-  if (llt.info() != Eigen::Success) return std::nullopt;
-  Eigen::VectorXd z(d);
-  for (int i = 0; i < d; ++i) z[i] = chain.rng.Normal();
-  double chi2 = 0.0;
-  for (int i = 0; i < kDegreesOfFreedom; ++i) chi2 += std::pow(chain.rng.Normal(), 2);
-  const Eigen::VectorXd y = shape.centre + (llt.matrixL() * z) / std::sqrt(chi2 / kDegreesOfFreedom);
-  Proposal p;
-  p.psi.assign(y.data(), y.data() + d);
-  p.independent = true;
-  p.log_q_ratio = LogT(llt, shape.centre, chain.replicas[size_t(k)].psi) - LogT(llt, shape.centre, p.psi);
-  return p;
+  if (shape.covariance.size() == 0 || shape.centre.size() != s.dimension()) return std::nullopt;
+  return IndependenceDraw(shape.centre, shape.covariance, chain.replicas[size_t(k)].psi, chain.rng);
 }
 
 }  // namespace
+
+std::optional<Proposal> IndependenceDraw(const Eigen::VectorXd& centre, const Eigen::MatrixXd& covariance,
+                                         const std::vector<double>& current, Rng& rng) {
+  const Eigen::Index d = centre.size();
+  const Eigen::LLT<Eigen::MatrixXd> llt(kIndependenceScale * kIndependenceScale * covariance);
+  if (llt.info() != Eigen::Success) return std::nullopt;
+  Eigen::VectorXd z(d);
+  for (Eigen::Index i = 0; i < d; ++i) z[i] = rng.Normal();
+  double chi2 = 0.0;
+  for (int i = 0; i < kDegreesOfFreedom; ++i) chi2 += std::pow(rng.Normal(), 2);
+  const Eigen::VectorXd y = centre + (llt.matrixL() * z) / std::sqrt(chi2 / kDegreesOfFreedom);
+  Proposal p;
+  p.psi.assign(y.data(), y.data() + d);
+  p.independent = true;
+  p.log_q_ratio = LogT(llt, centre, current) - LogT(llt, centre, p.psi);
+  return p;
+}
 
 Proposal Propose(const State& s, ChainState& chain, int k, double temperature) {
   const bool settled = s.laplace.rows() == s.dimension() && int(s.mode.size()) == s.dimension();

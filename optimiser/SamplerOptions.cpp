@@ -55,6 +55,7 @@ void ForEachField(Options& o, F&& f) {
   f("start_search", o.start_search);
   f("evidence_rungs", o.evidence_rungs);
   f("evidence_alpha", o.evidence_alpha);
+  f("evidence_every", o.evidence_every);
   f("seed", o.seed);
 }
 
@@ -134,6 +135,8 @@ bool SamplerOptions::IsValid(std::string* why) const {
     return OptionsFail(why, "evidence_rungs must be 0 (off) or from 2 to 1000");
   if (!(std::isfinite(evidence_alpha) && evidence_alpha > 0.0 && evidence_alpha <= 1.0))
     return OptionsFail(why, "evidence_alpha must lie in (0, 1]");
+  if (evidence_every < 1 || evidence_every > 1000)
+    return OptionsFail(why, "evidence_every must be from 1 to 1000");
   return true;
 }
 

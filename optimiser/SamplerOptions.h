@@ -178,12 +178,15 @@ struct SamplerOptions {
   // burn-in ends (at least 2·adapt_min_samples iterations), and records every rung's log L
   // after it; SamplerSummary::evidence gives stepping-stone and thermodynamic-integration
   // estimates with their errors. It has its own random stream: the chains sample exactly as
-  // without it. It adds evidence_rungs + 1 hypotheses to every frame once it runs (12
-  // rungs at the default schedule: about +45 % evaluations; a batch over the target's size
-  // is evaluated in two calls). evidence_alpha = 0.3 is Xie et al. 2011's Beta(0.3, 1)
-  // spacing, which crowds the rungs near the prior.
+  // without it. It adds evidence_rungs + 1 hypotheses to every evidence_every-th frame once
+  // it runs (a batch over the target's size is evaluated in two calls): at 12 rungs and every
+  // second frame, about a quarter more evaluations. evidence_alpha = 0.3 is Xie et al. 2011's
+  // Beta(0.3, 1) spacing, which crowds the rungs near the prior.
   int evidence_rungs = 0;
   double evidence_alpha = 0.3;
+  // Frames per ladder step: its Monte Carlo error grows as √evidence_every, its cost falls as
+  // 1 / evidence_every (why 2: docs/internals/DECISIONS.md, 2026-11-28).
+  int evidence_every = 2;
 
   uint64_t seed = 1;
 

@@ -54,21 +54,32 @@ struct ChainState {
 };
 
 // The evidence ladder (SamplerOptions::evidence_rungs): one more chain whose replicas sit at
-// fixed β from 0 to 1 and target L^β·π. Each rung tunes its own proposal (the power
-// posterior at β = 0.001 is the prior's width, at β = 1 the posterior's) until
-// collect_from, then keeps it fixed and records its log L every iteration.
+// fixed β from 0 to 1 and target L^β·π. It steps every `every`-th iteration from `start`.
+// Each rung tunes its own proposal (the power posterior at β = 0.001 is the prior's width,
+// at β = 1 the posterior's) until collect_from, then keeps it fixed and records its log L
+// every step.
 struct EvidenceState {
   bool started = false;
   int start = 0;         // first iteration it ran
   int collect_from = 0;  // first iteration whose states are recorded
+  int every = 1;         // SamplerOptions::evidence_every
   Rng rng;
   std::vector<double> beta;     // ascending, 0 … 1
   std::vector<Replica> rungs;   // one per β (Replica's counters and tuning serve as they are)
-  // First guess of each rung's proposal covariance: (β H + P⁻¹)⁻¹, H the Laplace precision
-  // at the mode (settling's), P the prior's variances.
+  // First guess of each rung's covariance: (β H + P⁻¹)⁻¹, H the Laplace precision at the
+  // mode (settling's), P the prior's variances; and of its centre, the precision-weighted
+  // mean of the mode and the prior's centre.
   std::vector<Eigen::MatrixXd> guess;
+  std::vector<Eigen::VectorXd> guess_centre;
   std::vector<int64_t> swap_attempts, swap_accepts;  // per neighbour pair (k, k + 1)
-  std::vector<std::vector<double>> draws;           // [rung][iteration − collect_from]: log L
+  std::vector<std::vector<double>> draws;           // [rung][step since collect_from]: log L
+
+  bool StepsAt(int t) const { return started && t >= start && (t - start) % every == 0; }
+  int Step(int t) const { return (t - start) / every; }
+  // Steps recorded before `iteration` (collect_from is a step).
+  size_t Recorded(int iteration) const {
+    return iteration <= collect_from ? 0 : size_t((iteration - collect_from + every - 1) / every);
+  }
 };
 
 // The best hypothesis scored at `level` (reset when the level changes).
@@ -157,6 +168,10 @@ struct Proposal {
   bool independent = false;
 };
 Proposal Propose(const State& state, ChainState& chain, int k, double temperature);
+// A draw from the multivariate t (ν = 8) around `centre` with `covariance` widened a little,
+// and its log q(current) − log q(draw); nullopt where the covariance is not positive definite.
+std::optional<Proposal> IndependenceDraw(const Eigen::VectorXd& centre, const Eigen::MatrixXd& covariance,
+                                         const std::vector<double>& current, Rng& rng);
 
 // Refinement.cpp. The refinement runs twice: in Phase::Settling to find the mode (then
 // Phase::Restarting follows) and in Phase::Refining at the end (then Phase::Done).
@@ -173,6 +188,8 @@ struct EvidenceProposal {
   std::vector<std::vector<double>> psi;
   std::vector<double> log_prior;
   std::vector<char> from_prior;  // an independent draw from the prior (β = 0): accepted when scored
+  std::vector<char> independent;  // an independence draw (IndependenceDraw): log q ratio below
+  std::vector<double> log_q_ratio;
 };
 EvidenceProposal EvidenceProposals(State& state, int t, std::vector<std::vector<double>>& batch);
 void EvidenceStep(State& state, int t, EvidenceProposal proposal, const double* values);
