@@ -432,7 +432,8 @@ def edge_assets():
 
     Variants switch one cause of the bias off each: synth_textured_cloth.json (the cloth
     printed with texture: not plain), synth_no_chimneys.json, synth_no_overhang.json with
-    truth_no_overhang.json (walls flush with the roof, e = 0), cameras_dense.json (six more
+    truth_no_overhang.json (walls flush with the roof, e = 0; scene_no_overhang.json models
+    it so), cameras_dense.json (six more
     cameras high above, so the roof's back and sides are seen by two views or more), and
     synth_sky.json (no cloth: a plain sky and a plain field beyond the ground);
     synth_clean.json switches the three of the truth off at once. Others make the scene
@@ -520,8 +521,12 @@ def edge_assets():
                   "synth_cloth_floor.json": synth(on_cloth(house) + chimneys + [cloth]),
                   "synth_cloth_floor_plain_walls.json": synth(on_cloth(plain_walls) + chimneys + [cloth])})
     folder = os.path.join(HERE, "house_cloth")
+    # The model without the overhang, for `vkrecon compare` (docs/internals/EVIDENCE.md).
+    no_overhang = {"parameters": {k: v for k, v in params.items() if k != "e"}, "nodes": flush,
+                   "likelihood": dict(LIKELIHOOD), "sampler": dict(SAMPLER)}
     for file, body in (("truth_no_overhang.json", dict(truth, e=0.0)),
-                       ("cameras_dense.json", {"cameras": cameras + high})):
+                       ("cameras_dense.json", {"cameras": cameras + high}),
+                       ("scene_no_overhang.json", no_overhang)):
         with open(os.path.join(folder, file), "w") as f:
             json.dump(body, f, indent=2)
             f.write("\n")
