@@ -3,6 +3,10 @@
 #include <iostream>
 
 #include "apps/Commands.h"
+#include "engine/scene/Scene.h"
+#include "pipelines/model/LikelihoodSettings.h"
+#include "pipelines/rendering/SynthSettings.h"
+#include "recon/SearchSetup.h"
 #include "report/Preview.h"
 
 namespace vkr::app {
@@ -17,7 +21,8 @@ int RunPreview(int argc, char** argv) {
       "wireframe on every photograph live (the page recomputes the scene exactly: transforms, expressions, "
       "lens), with buttons that save the values as an --at file or as the scene with them as init. Also "
       "OUT/at.json (the values drawn) and OUT/preview.json (the settings). Needs no Vulkan device. Bad input (a "
-      "photograph missing, an --at file with an unknown or missing parameter) exits 2 with one line. "
+      "photograph missing, an --at file with an unknown or missing parameter, a settings block that run or synth "
+      "would refuse) exits 2 with one line. "
       "docs/guide/REAL_PHOTOS.md, \"Check it before a run\".",
       "preview");
   report::PreviewOptions options;
@@ -32,6 +37,16 @@ int RunPreview(int argc, char** argv) {
   options.at_file = at;
   options.output_dir = out;
   options.overrides = ParseOverrides(sets);
+  {
+    // Preview is where a scene is checked before a run: a settings block that `run` or
+    // `synth` would refuse is bad input here too (exit 2, one line), not news after a build.
+    LoadOptions load;
+    load.require_images = false;  // preview names a missing photograph itself
+    const Scene checked = LoadScene(options.scene_file, options.overrides, load);
+    LikelihoodSettingsOf(checked);
+    recon::SamplerOptionsOf(checked);
+    SynthSettingsOf(checked);
+  }
   std::cout << report::WritePreview(options).BriefReport();
   return 0;
 }

@@ -162,6 +162,23 @@ TEST_F(PreviewCli, AtFileWithAnUnknownParameterIsBadInput) {
   EXPECT_FALSE(fs::exists(dir() / "bad/preview.html"));
 }
 
+// A typo in a settings block is caught before a run, as `run` and `synth` would: one line
+// naming the file and the field, and no page written.
+TEST_F(PreviewCli, SettingsTypoIsBadInput) {
+  for (const auto& [set, words] :
+       {std::pair<std::string, std::vector<std::string>>{"likelihood.atlass=64", {"likelihood.atlass", "atlas"}},
+        {"sampler.chains=two", {"sampler.chains"}},
+        {"synth.exposur=1", {"synth.exposur"}}}) {
+    SCOPED_TRACE(set);
+    const auto r = RunCommand(kVkrecon + " preview " + Quote(dir() / "scene.json") + " --set " + set + " -o " +
+                              Quote(dir() / "typo"));
+    std::vector<std::string> expected = {(dir() / "scene.json").string()};
+    expected.insert(expected.end(), words.begin(), words.end());
+    test::ExpectBadInput(r, expected);
+    EXPECT_FALSE(fs::exists(dir() / "typo/preview.html"));
+  }
+}
+
 TEST(PreviewCliInput, HelpExplainsTheCommand) {
   const auto r = RunCommand(kVkrecon + " preview --help");
   EXPECT_EQ(r.exit_status, 0);
