@@ -49,6 +49,35 @@ std::string Percent(double p) {
   return text;
 }
 
+// Each row's verdict with every error multiplied by `error_factor`: the runner-up's margin
+// decides how sure the best's verdict is.
+std::vector<std::string> Verdicts(const std::vector<ComparedScene>& rows, ptrdiff_t best,
+                                  const ComparisonBars& bars, double error_factor) {
+  double runner_up = -INFINITY, runner_up_se = 0.0;
+  for (ptrdiff_t i = 0; i < ptrdiff_t(rows.size()); ++i)
+    if (i != best && rows[size_t(i)].log_z > runner_up) {
+      runner_up = rows[size_t(i)].log_z;
+      runner_up_se = error_factor * rows[size_t(i)].se_log_bayes_factor;
+    }
+  std::vector<std::string> out;
+  for (ptrdiff_t i = 0; i < ptrdiff_t(rows.size()); ++i) {
+    const ComparedScene& r = rows[size_t(i)];
+    const double lnb = r.log_bayes_factor;
+    if (i == best) {
+      const double margin = r.log_z - runner_up;
+      if (rows.size() == 1) out.push_back("only scene");
+      else if (margin >= bars.decisive_log_bayes_factor && margin >= 3.0 * runner_up_se) out.push_back("best, decisive");
+      else if (margin >= 1.0) out.push_back("best, not decisive");
+      else out.push_back("best, barely");
+    } else if (-lnb >= bars.decisive_log_bayes_factor && -lnb >= 3.0 * error_factor * r.se_log_bayes_factor) {
+      out.push_back("rejected");
+    } else {
+      out.push_back(-lnb >= 1.0 ? "disfavoured" : "as good");
+    }
+  }
+  return out;
+}
+
 }  // namespace
 
 ComparedScene ReadComparedRun(const fs::path& run_folder, const std::string& name) {
@@ -102,35 +131,20 @@ void TabulateComparison(std::vector<ComparedScene>* rows, const ComparisonBars& 
     }
     r.se_probability = std::sqrt(variance);
   }
-  // The runner-up's margin decides how sure the best's verdict is.
-  double runner_up = -INFINITY, runner_up_se = 0.0;
   for (ComparedScene& r : *rows) {
-    const bool is_best = &r == &*best;
     r.log_bayes_factor = r.log_z - best_log_z;
-    r.se_log_bayes_factor = is_best ? 0.0 : std::hypot(r.se, best_se);
-    if (!is_best && r.log_z > runner_up) {
-      runner_up = r.log_z;
-      runner_up_se = r.se_log_bayes_factor;
-    }
+    r.se_log_bayes_factor = &r == &*best ? 0.0 : std::hypot(r.se, best_se);
     r.doubts.clear();
     if (!r.agree) r.doubts.push_back("the two estimators disagree");
     if (r.ess < bars.min_ess) r.doubts.push_back("ESS " + Fixed(r.ess, 0) + " < " + Fixed(bars.min_ess, 0));
     if (r.min_swap < bars.min_swap)
       r.doubts.push_back("a rung pair swaps " + Fixed(r.min_swap, 2) + " < " + Fixed(bars.min_swap, 2));
   }
-  for (ComparedScene& r : *rows) {
-    const double lnb = r.log_bayes_factor;
-    if (&r == &*best) {
-      const double margin = best_log_z - runner_up;
-      if (rows->size() == 1) r.verdict = "only scene";
-      else if (margin >= bars.decisive_log_bayes_factor && margin >= 3.0 * runner_up_se) r.verdict = "best, decisive";
-      else if (margin >= 1.0) r.verdict = "best, not decisive";
-      else r.verdict = "best, barely";
-    } else if (-lnb >= bars.decisive_log_bayes_factor && -lnb >= 3.0 * r.se_log_bayes_factor) {
-      r.verdict = "rejected";
-    } else {
-      r.verdict = -lnb >= 1.0 ? "disfavoured" : "as good";
-    }
+  const std::vector<std::string> verdicts = Verdicts(*rows, &*best - rows->data(), bars, 1.0);
+  const std::vector<std::string> wider = Verdicts(*rows, &*best - rows->data(), bars, bars.doubt_error_factor);
+  for (size_t i = 0; i < rows->size(); ++i) {
+    (*rows)[i].verdict = verdicts[i];
+    (*rows)[i].robust = verdicts[i] == wider[i];
   }
 }
 
@@ -200,7 +214,7 @@ nlohmann::json ToJson(const std::vector<ComparedScene>& rows) {
                       {"se_log_bayes_factor", finite(r.se_log_bayes_factor)},
                       {"probability", finite(r.probability)}, {"se_probability", finite(r.se_probability)},
                       {"map_log_likelihood", finite(r.map_log_likelihood)}, {"chi2_per_dof", finite(r.chi2_per_dof)},
-                      {"verdict", r.verdict}, {"doubts", r.doubts}});
+                      {"verdict", r.verdict}, {"doubts", r.doubts}, {"verdict_holds_at_wider_errors", r.robust}});
   return {{"scenes", scenes},
           {"likelihood", rows.empty() ? nlohmann::json() : rows.front().likelihood},
           {"prior_odds", "equal"}};
@@ -212,7 +226,8 @@ std::string MarkdownTable(const std::vector<ComparedScene>& rows) {
     << "|---|---|---|---|---|---|---|---|\n";
   for (const ComparedScene& r : rows) {
     std::string verdict = r.verdict;
-    for (const std::string& doubt : r.doubts) verdict += "; doubt: " + doubt;
+    if (!r.robust)
+      for (const std::string& doubt : r.doubts) verdict += "; doubt: " + doubt;
     o << "| " << r.name << " | " << Fixed(r.log_z, 2) << " ± " << Fixed(r.se, 2) << " | " << Fixed(r.log_z_ti, 2)
       << " ± " << Fixed(r.se_ti, 2) << " | " << Fixed(r.log_bayes_factor, 2) << " ± "
       << Fixed(r.se_log_bayes_factor, 2) << " | " << Percent(r.probability) << " ± " << Percent(r.se_probability)

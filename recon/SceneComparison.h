@@ -35,6 +35,9 @@ struct ComparedScene {
   double probability = 0.0, se_probability = 0.0;            // under equal prior odds
   std::string verdict;
   std::vector<std::string> doubts;  // why the number may not be trusted (empty: none found)
+  // Whether the verdict stays the same with every error ComparisonBars::doubt_error_factor
+  // times as large: then the doubts cannot change it, and the table does not show them.
+  bool robust = true;
 };
 
 // Bars a verdict needs (docs/guide/WHICH_SCENE.md, "When to trust it"); the defaults are the
@@ -43,6 +46,10 @@ struct ComparisonBars {
   double decisive_log_bayes_factor = 5.0;  // Kass & Raftery's "very strong" is ln B > 5
   double min_ess = 200.0;
   double min_swap = 0.2;
+  // How much larger the errors may be than stated where a doubt holds: on photographs,
+  // ladders of one run scattered two to three times their stated errors at ESS 20-60
+  // (docs/internals/EVIDENCE.md, "At default settings").
+  double doubt_error_factor = 4.0;
 };
 
 // A finished run's line from OUT/map.json. InputError naming the file and field when it has

@@ -94,13 +94,27 @@ TEST(ComparisonTable, DoubtsNameWhatFailsItsBar) {
   EXPECT_NE(rows[1].doubts[0].find("disagree"), std::string::npos);
   EXPECT_NE(rows[1].doubts[1].find("ESS 40"), std::string::npos);
   EXPECT_NE(rows[1].doubts[2].find("0.05"), std::string::npos);
-  const std::string table = recon::MarkdownTable(rows);
-  EXPECT_NE(table.find("| b | -60.00 ± 0.10 |"), std::string::npos) << table;
-  EXPECT_NE(table.find("doubt: ESS 40"), std::string::npos) << table;
   const nlohmann::json json = recon::ToJson(rows);
   EXPECT_EQ(json["scenes"].size(), 2u);
   EXPECT_EQ(json["scenes"][1]["verdict"], "rejected");
+  EXPECT_EQ(json["scenes"][1]["doubts"].size(), 3u);
   EXPECT_EQ(json["likelihood"]["kappa"], 3.0);
+  // 10 nats at errors of 0.14: rejected at four times the errors too, so the doubts cannot
+  // change the verdict and the table does not cry wolf.
+  EXPECT_TRUE(rows[1].robust);
+  EXPECT_EQ(json["scenes"][1]["verdict_holds_at_wider_errors"], true);
+  std::string table = recon::MarkdownTable(rows);
+  EXPECT_NE(table.find("| b | -60.00 ± 0.10 |"), std::string::npos) << table;
+  EXPECT_EQ(table.find("doubt"), std::string::npos) << table;
+  // 6 nats at 0.71 is decisive, at four times the errors it is not: the doubts are shown.
+  rows = {Row("a", -50.0, 0.5), Row("b", -56.0, 0.5)};
+  rows[1].ess = 40;
+  recon::TabulateComparison(&rows);
+  EXPECT_EQ(rows[0].verdict, "best, decisive");
+  EXPECT_EQ(rows[1].verdict, "rejected");
+  EXPECT_FALSE(rows[1].robust);
+  table = recon::MarkdownTable(rows);
+  EXPECT_NE(table.find("rejected; doubt: ESS 40 < 200"), std::string::npos) << table;
 }
 
 TEST(ComparisonTable, RowsOfAnotherLikelihoodAreRefused) {
