@@ -494,6 +494,9 @@ def edge_assets():
     for k, cam in enumerate(high):
         cam["name"], cam["image"] = "cam%d" % (k + 6), "cam%d.png" % (k + 6)
     small = lambda seed, base: (lambda p: texture(p, seed, base, size=64))
+    # The model without the overhang, for `vkrecon compare` (docs/internals/EVIDENCE.md).
+    no_overhang = {"parameters": {k: v for k, v in params.items() if k != "e"}, "nodes": flush,
+                   "likelihood": dict(LIKELIHOOD), "sampler": dict(SAMPLER)}
     write_asset("house_cloth", {
         "parameters": params,
         "nodes": house,
@@ -519,14 +522,11 @@ def edge_assets():
                   "synth_clean.json": synth(flush + [printed]),
                   "synth_plain_walls.json": synth(plain_walls + chimneys + [cloth]),
                   "synth_cloth_floor.json": synth(on_cloth(house) + chimneys + [cloth]),
-                  "synth_cloth_floor_plain_walls.json": synth(on_cloth(plain_walls) + chimneys + [cloth])})
+                  "synth_cloth_floor_plain_walls.json": synth(on_cloth(plain_walls) + chimneys + [cloth]),
+                  "scene_no_overhang.json": no_overhang})
     folder = os.path.join(HERE, "house_cloth")
-    # The model without the overhang, for `vkrecon compare` (docs/internals/EVIDENCE.md).
-    no_overhang = {"parameters": {k: v for k, v in params.items() if k != "e"}, "nodes": flush,
-                   "likelihood": dict(LIKELIHOOD), "sampler": dict(SAMPLER)}
     for file, body in (("truth_no_overhang.json", dict(truth, e=0.0)),
-                       ("cameras_dense.json", {"cameras": cameras + high}),
-                       ("scene_no_overhang.json", no_overhang)):
+                       ("cameras_dense.json", {"cameras": cameras + high})):
         with open(os.path.join(folder, file), "w") as f:
             json.dump(body, f, indent=2)
             f.write("\n")
