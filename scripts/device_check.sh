@@ -233,7 +233,8 @@ print("merton seed", sys.argv[2], json.dumps(m["sampling"]), "log_posterior", m[
 step_noise() {  # VKRECON OUT
   local vk=$1 out=$2 spec label work
   local wrapper=$PWD/$BUNDLE/bin/vk
-  printf '#!/bin/sh\nexec %s "$@"\n' "$vk" >"$wrapper" && chmod +x "$wrapper"
+  # Written aside and renamed: streams started together must never exec a half-written one.
+  printf '#!/bin/sh\nexec %s "$@"\n' "$vk" >"$wrapper.$$" && chmod +x "$wrapper.$$" && mv -f "$wrapper.$$" "$wrapper"
   for spec in ${DEVICE_CHECK_NOISE_VARIANTS:-}; do
     label=${spec%%:*} work=/tmp/device_noise/$label
     local sets=() kv kvs
