@@ -164,6 +164,8 @@ LikelihoodSettings LikelihoodSettingsFromJson(const SettingsReader& r) {
   ReadEnum(r, "slot_images", "value", {"auto", "shared", "per_slot"}, &s.slot_images);
   ReadEnum(r, "photometric", "photometric model", {"none", "gain", "affine"}, &s.photometric);
   if (const auto* j = r.Find("clutter")) s.clutter = r.Bool(*j, "clutter");
+  // The edge term is on by default where there is one (the surface likelihood).
+  s.edges = s.kind == LikelihoodKind::Surface;
   if (const auto* j = r.Find("edges")) s.edges = r.Bool(*j, "edges");
   ReadNoise(r, s);
   // Whether k exceeds the other cameras is checked where the cameras are known

@@ -74,7 +74,9 @@ struct LikelihoodSettings {
   // on (ClutterMasks.h).
   bool clutter = true;
   // The edge term (pipelines/model/EdgeEvidence.h): contours and creases on image edges.
-  bool edges = false;
+  // On by default for the surface likelihood (LikelihoodSettingsFromJson); the image-space
+  // likelihood has none.
+  bool edges = true;
   // Texels per side of the blocks behind κ: 8, 16, 32 or 64; 0 ("auto") takes the largest κ
   // over those sizes.
   int sandwich_blocks = 0;

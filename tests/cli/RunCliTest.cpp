@@ -85,7 +85,7 @@ TEST(RunCli, KilledRunResumesToTheSameResult) {
   EXPECT_TRUE(a["calibration"]["sigma_estimated"].get<bool>());
   EXPECT_GT(a["calibration"]["kappa"].get<double>(), 0.0);
   EXPECT_EQ(a["settings"]["likelihood"]["sigma"], "auto");
-  EXPECT_EQ(a["settings"]["likelihood"]["edges"], false);
+  EXPECT_EQ(a["settings"]["likelihood"]["edges"], true) << "on by default";
   EXPECT_TRUE(a["settings"]["max_side"].is_null()) << "the photographs at their size";
   EXPECT_EQ(test::ReadText(dir / "straight/chain.csv"), test::ReadText(out / "chain.csv"));
   for (const char* f : {"composite.exr", "composite.png", "model.glb", "chain.csv"}) EXPECT_TRUE(fs::exists(out / f)) << f;
@@ -190,9 +190,9 @@ TEST(RunCli, ATruncatedOrCorruptCheckpointOrOtherSettingsAreBadInputNotACrashOrA
   ASSERT_EQ(RunCommand(SmallRun(dir, 20) + " -o " + Q(out)).exit_status, 0);
   const std::string checkpoint = test::ReadText(out / "checkpoint.json");
   // Resumed under another likelihood, the chains would sample two posteriors as one.
-  const auto other = RunCommand(SmallRun(dir, 20) + " --set likelihood.edges=true -o " + Q(out) + " --resume");
+  const auto other = RunCommand(SmallRun(dir, 20) + " --set likelihood.edges=false -o " + Q(out) + " --resume");
   EXPECT_EQ(other.exit_status, 2) << other.err;
-  EXPECT_NE(other.err.find("checkpoint.json: likelihood.edges: the checkpoint's run had false, this one has true"),
+  EXPECT_NE(other.err.find("checkpoint.json: likelihood.edges: the checkpoint's run had true, this one has false"),
             std::string::npos) << other.err;
   EXPECT_EQ(std::count(other.err.begin(), other.err.end(), '\n'), 1) << other.err;
   EXPECT_EQ(test::ReadText(out / "checkpoint.json"), checkpoint) << "a refused resume leaves the checkpoint alone";

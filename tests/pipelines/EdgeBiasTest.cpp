@@ -97,7 +97,7 @@ class EdgeBias : public test::GpuTest {
     options.overrides = {{"cameras", (dir_ / "cameras.json").string()},
                          {"images", dir_.path().string()},
                          {"likelihood.sigma", edges_ ? "8" : "4"}};
-    if (edges_) options.overrides.push_back({"likelihood.edges", "true"});
+    options.overrides.push_back({"likelihood.edges", edges_ ? "true" : "false"});
     options.at_file = at;
     return options;
   }

@@ -53,7 +53,10 @@ def test_batch_equals_the_command_line_to_the_bit(photos, tmp_path):
     assert scores["total"][0] == cli_total(photos, os.path.join(HOUSE, "truth.json"))
     assert scores["total"][2] == scores["total"][0]
     assert scores["total"][1] < scores["total"][0]
-    assert scores["total"][0] == scores["log_likelihood"][0] + scores["log_occlusion_prior"][0]
+    # The edge term is on by default: the total is its three terms, summed in this order.
+    assert scores["log_edges"][0] != 0.0
+    assert scores["total"][0] == (scores["log_likelihood"][0] + scores["log_edges"][0]
+                                  + scores["log_occlusion_prior"][0])
     assert scores["seen_multi"][0] > 0
 
 

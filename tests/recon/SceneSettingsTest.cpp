@@ -71,7 +71,7 @@ TEST(SceneSettings, DefaultsAreTheTypes) {
   EXPECT_EQ(s.likelihood.kappa_estimate, KappaEstimate::Auto);
   EXPECT_EQ(s.likelihood.partner_ranking, PartnerRanking::Distance);
   EXPECT_EQ(s.likelihood.charts, ChartSizing::Area);
-  EXPECT_FALSE(s.likelihood.edges);
+  EXPECT_TRUE(s.likelihood.edges) << "the edge term is on by default";
   EXPECT_TRUE(s.sampler.until_converged);  // "iterations": "auto"
   EXPECT_EQ(s.sampler.iterations, 600);
   EXPECT_EQ(s.sampler.TimeLimit(), opt::kDefaultTimeLimit);
@@ -83,6 +83,7 @@ TEST(SceneSettings, JsonRoundTrip) {
   TempDir dir;
   LikelihoodSettings l;
   l.kind = LikelihoodKind::Image;
+  l.edges = false;  // the image-space likelihood has none
   l.sigma_auto = false;
   l.sigma = 3.5;
   l.weights = ViewWeights::Uniform;
