@@ -60,11 +60,14 @@ std::vector<fs::path> WriteOverlays(const fs::path& dir, const Scene& scene, con
     for (WireEdge& e : SceneEdges(scene, geometry, extreme))
       if (first_time(e)) faint.push_back(std::move(e));
   std::vector<fs::path> written;
-  // The cameras at Ψ throughout: a camera moved by a pose is drawn where it starts.
+  const std::vector<WorldTriangle> triangles = SceneTriangles(scene, geometry, psi);
+  // The cameras at Ψ throughout: a camera moved by a pose is drawn where it starts. The model
+  // at Ψ hides its own edges; the extremes' are drawn whole (another shape hides them).
   for (const Camera& camera : scene.Cameras(psi)) {
     const fs::path file = dir / (camera.name + ".png");
     const Image faint_drawn = DrawWireframe(LoadPhotograph(camera.image, camera.shrink), camera, faint, kExtremeLines);
-    WritePng(file, DrawWireframe(faint_drawn, camera, bright));
+    const DepthBuffer hidden(camera, triangles);
+    WritePng(file, DrawWireframe(faint_drawn, camera, bright, {}, &hidden));
     written.push_back(file);
   }
   return written;

@@ -119,6 +119,21 @@ std::vector<WireEdge> SceneEdges(const Scene& scene, const SceneGeometry& geomet
   return edges;
 }
 
+std::vector<WorldTriangle> SceneTriangles(const Scene& scene, const SceneGeometry& geometry,
+                                          const std::vector<double>& psi) {
+  const std::vector<Eigen::Matrix4d> world_from_node = scene.WorldFromNode(psi);
+  std::vector<WorldTriangle> triangles;
+  for (size_t node = 0; node < geometry.meshes.size() && node < world_from_node.size(); ++node) {
+    const Mesh& mesh = geometry.meshes[node];
+    const auto world = [&](uint32_t i) {
+      return (world_from_node[node] * mesh.positions[i].cast<double>().homogeneous()).head<3>().eval();
+    };
+    for (size_t t = 0; t + 2 < mesh.indices.size(); t += 3)
+      triangles.push_back({world(mesh.indices[t]), world(mesh.indices[t + 1]), world(mesh.indices[t + 2])});
+  }
+  return triangles;
+}
+
 bool IsDrawnEdge(const WireEdge& edge, const Eigen::Vector3d& centre, const WireframeOptions& options) {
   if (edge.normals.size() != 2) return true;  // a boundary (or a non-manifold edge)
   const Eigen::Vector3d& n0 = edge.normals[0];
@@ -129,7 +144,7 @@ bool IsDrawnEdge(const WireEdge& edge, const Eigen::Vector3d& centre, const Wire
 }
 
 Image DrawWireframe(const Image& photo, const Camera& camera, const std::vector<WireEdge>& edges,
-                    const WireframeOptions& options) {
+                    const WireframeOptions& options, const DepthBuffer* hidden) {
   Image out = photo;
   const Eigen::Vector3d centre = camera.Centre();
   constexpr double kNear = 1e-3;  // metres in front of the camera
@@ -142,9 +157,15 @@ Image DrawWireframe(const Image& photo, const Camera& camera, const std::vector<
     if (a.z() < kNear) a = b + (a - b) * ((b.z() - kNear) / (b.z() - a.z()));
     if (b.z() < kNear) b = a + (b - a) * ((a.z() - kNear) / (a.z() - b.z()));
     Eigen::Vector2d from = LensPixel(camera, a);
-    for (int k = 1; k <= pieces; ++k) {
-      const Eigen::Vector2d to = LensPixel(camera, a + (b - a) * (double(k) / pieces));
-      if (from.allFinite() && to.allFinite()) DrawLine(out, from, to, options.colour, options.opacity);
+    int steps = pieces;
+    if (hidden) {  // a piece per pixel, so that visibility changes where the occluder's edge is
+      const double length = (LensPixel(camera, b) - from).norm();
+      steps = std::max(pieces, int(std::min(std::ceil(std::isfinite(length) ? length : 0.0), 4096.0)));
+    }
+    for (int k = 1; k <= steps; ++k) {
+      const Eigen::Vector2d to = LensPixel(camera, a + (b - a) * (double(k) / steps));
+      const bool seen = !hidden || hidden->Visible(a + (b - a) * ((k - 0.5) / steps));
+      if (seen && from.allFinite() && to.allFinite()) DrawLine(out, from, to, options.colour, options.opacity);
       from = to;
     }
   }
@@ -155,10 +176,12 @@ std::vector<fs::path> WriteWireframeOverlays(const fs::path& dir, const Scene& s
                                              const std::vector<double>& psi, const WireframeOptions& options) {
   fs::create_directories(dir);
   const std::vector<WireEdge> edges = SceneEdges(scene, geometry, psi);
+  const std::vector<WorldTriangle> triangles = SceneTriangles(scene, geometry, psi);
   std::vector<fs::path> written;
   for (const Camera& camera : scene.Cameras(psi)) {
     const fs::path file = dir / (camera.name + ".png");
-    WritePng(file, DrawWireframe(LoadPhotograph(camera.image, camera.shrink), camera, edges, options));
+    const DepthBuffer hidden(camera, triangles);
+    WritePng(file, DrawWireframe(LoadPhotograph(camera.image, camera.shrink), camera, edges, options, &hidden));
     written.push_back(file);
   }
   return written;

@@ -3,8 +3,8 @@
 // docs/guide/REPORT.md): the quickest way to
 // see whether a reconstruction lines up with what the cameras saw. Host only: the scene's
 // meshes at Ψ, projected through each camera (its lens included) onto the photograph as
-// stored, with anti-aliased lines (Wu's algorithm). No occlusion test: hidden edges are
-// drawn too (docs/guide/REPORT.md).
+// stored, with anti-aliased lines (Wu's algorithm). Edges that other surfaces hide are left
+// out where a depth buffer is given (HiddenLines.h), as the report does.
 
 #include <Eigen/Core>
 #include <array>
@@ -15,6 +15,7 @@
 #include "engine/geometry/SceneGeometry.h"
 #include "engine/image/Image.h"
 #include "engine/scene/Scene.h"
+#include "pipelines/rendering/HiddenLines.h"
 
 namespace vkr {
 
@@ -44,6 +45,10 @@ NodeWire WeldWire(const Mesh& mesh);
 // the triangles beside it; triangles that the transform collapses do not count.
 std::vector<WireEdge> SceneEdges(const Scene& scene, const SceneGeometry& geometry, const std::vector<double>& psi);
 
+// Every triangle of the scene's meshes at Ψ, in the world: what hides an edge.
+std::vector<WorldTriangle> SceneTriangles(const Scene& scene, const SceneGeometry& geometry,
+                                          const std::vector<double>& psi);
+
 struct WireframeOptions {
   // An edge is drawn where the faces beside it turn by more than this (degrees), so the
   // diagonals of flat faces and the facets of a smooth cylinder stay out.
@@ -63,11 +68,12 @@ Eigen::Vector2d LensPixel(const Camera& camera, const Eigen::Vector3d& x_cam);
 
 // `photo` (the camera's photograph as stored) with the drawn edges projected through
 // `camera`, clipped at the near plane; through a lens the lines are drawn in short pieces so
-// that they bend as the photograph's straight edges do.
+// that they bend as the photograph's straight edges do. With `hidden` (the camera's depth
+// buffer of the scene), only the pieces it shows are drawn, a pixel at a time.
 Image DrawWireframe(const Image& photo, const Camera& camera, const std::vector<WireEdge>& edges,
-                    const WireframeOptions& options = {});
+                    const WireframeOptions& options = {}, const DepthBuffer* hidden = nullptr);
 
-// DIR/<camera>.png for every camera of the scene at Ψ; the files written.
+// DIR/<camera>.png for every camera of the scene at Ψ, hidden edges left out; the files written.
 std::vector<std::filesystem::path> WriteWireframeOverlays(const std::filesystem::path& dir, const Scene& scene,
                                                           const SceneGeometry& geometry,
                                                           const std::vector<double>& psi,
