@@ -50,7 +50,7 @@ int RunLikelihood(int argc, char** argv) {
       "--sweep", sweep,
       "NAME=LO:HI:N: evaluate N >= 2 values LO + k(HI-LO)/(N-1) of parameter NAME, the others at "
       "--at; CSV on stdout (or -o) with header value,loglik,log_likelihood,log_occlusion_prior,"
-      "sum_squares,dof,seen_multi,seen_once,seen_none,interior");
+      "sum_squares,dof,seen_multi,seen_once,seen_none,interior,log_edges,edge_length");
   app.add_option("-o,--output", out, "--sweep: write the CSV to FILE (and the plot to FILE with .png)")
       ->needs(sweep_option);
   app.add_option("--plot", plot,
