@@ -50,11 +50,14 @@ void DepthBuffer::Rasterise(const std::array<Eigen::Vector3d, 3>& cam) {
     return (b.x() - a.x()) * (p.y() - a.y()) - (b.y() - a.y()) * (p.x() - a.x());
   };
   const double area = edge(s[0], s[1], s[2]);
-  if (!(std::abs(area) > 1e-12)) return;
-  const double x_lo = std::min({s[0].x(), s[1].x(), s[2].x()}), x_hi = std::max({s[0].x(), s[1].x(), s[2].x()});
-  const double y_lo = std::min({s[0].y(), s[1].y(), s[2].y()}), y_hi = std::max({s[0].y(), s[1].y(), s[2].y()});
-  const int x0 = std::max(0, int(std::floor(x_lo))), x1 = std::min(width_ - 1, int(std::ceil(x_hi)));
-  const int y0 = std::max(0, int(std::floor(y_lo))), y1 = std::min(height_ - 1, int(std::ceil(y_hi)));
+  if (!(std::abs(area) > 1e-12) || !std::isfinite(area)) return;
+  // Clamped before conversion: a corner just past the near plane projects far outside.
+  const auto column = [&](double x) { return int(std::clamp(x, -1.0, double(width_))); };
+  const auto row = [&](double y) { return int(std::clamp(y, -1.0, double(height_))); };
+  const int x0 = std::max(0, column(std::floor(std::min({s[0].x(), s[1].x(), s[2].x()}))));
+  const int x1 = std::min(width_ - 1, column(std::ceil(std::max({s[0].x(), s[1].x(), s[2].x()}))));
+  const int y0 = std::max(0, row(std::floor(std::min({s[0].y(), s[1].y(), s[2].y()}))));
+  const int y1 = std::min(height_ - 1, row(std::ceil(std::max({s[0].y(), s[1].y(), s[2].y()}))));
   for (int y = y0; y <= y1; ++y)
     for (int x = x0; x <= x1; ++x) {
       const Eigen::Vector2d p(x + 0.5, y + 0.5);
@@ -69,8 +72,9 @@ void DepthBuffer::Rasterise(const std::array<Eigen::Vector3d, 3>& cam) {
 bool DepthBuffer::Visible(const Eigen::Vector3d& x_cam) const {
   if (x_cam.z() < kNearPlane) return false;
   const Eigen::Vector3d p = K_ * (x_cam / x_cam.z());
-  const int px = int(std::floor(p.x())) + margin_x_, py = int(std::floor(p.y())) + margin_y_;
-  if (px < 1 || py < 1 || px >= width_ - 1 || py >= height_ - 1) return true;
+  const double bx = std::floor(p.x()) + margin_x_, by = std::floor(p.y()) + margin_y_;
+  if (!(bx >= 1.0 && by >= 1.0 && bx < width_ - 1.0 && by < height_ - 1.0)) return true;  // NaN too
+  const int px = int(bx), py = int(by);
   float nearest = std::numeric_limits<float>::infinity(), furthest = 0.0f;
   for (int dy = -1; dy <= 1; ++dy)
     for (int dx = -1; dx <= 1; ++dx) {
