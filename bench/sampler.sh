@@ -3,6 +3,8 @@
 # without its likelihood and sampler blocks, photographs synthesised at σ — with today's
 # sampler and with the legacy one (tempered replicas throughout, random walk only), so that
 # both come from one binary and one machine. Prints one markdown row per run.
+# SAMPLER_BENCH_KINDS picks and orders the samplers (default "legacy today"); "all_chains" is
+# today's with every cooled replica sampling on (sampler.posterior_chains=0).
 #
 #   bench/sampler.sh [-s SIGMA] [-b BUILD] [-n SEEDS] ASSET…    e.g. bench/sampler.sh house box
 set -euo pipefail
@@ -38,6 +40,7 @@ json.dump(s, open(sys.argv[2], "w"), indent=2)' "assets/$name/scene.json" "$scen
     for kind in ${SAMPLER_BENCH_KINDS:-legacy today}; do
       args=()
       [ "$kind" = legacy ] && args=("${legacy[@]}")
+      [ "$kind" = all_chains ] && args=(--set sampler.posterior_chains=0)
       start=$SECONDS
       "$vk" run "$scene" -q "${args[@]}" --set cameras="$images/cameras.json" --set images="$images" \
         -o "$work/run" >/dev/null 2>&1 || true

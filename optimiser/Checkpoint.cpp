@@ -164,7 +164,7 @@ double ReadNumber(const json& j) {
 }
 
 // Whether the samples' iteration column has iterations 0 … s.iteration − 1 in order, each
-// with one row per chain (before cooling) or per replica (after it).
+// with one row per chain (before cooling) or per posterior chain (after it).
 bool RowsPerIteration(const json& iterations, const State& s) {
   const size_t chains = size_t(s.options.chains), all = size_t(s.PosteriorChains());
   size_t i = 0;
@@ -250,9 +250,11 @@ State StateFromJson(const json& j) {
       throw std::invalid_argument("unsupported version " + j.at("version").dump());
     State s;
     std::string why;
-    // A checkpoint from before cooling and independence proposals goes on as it began.
+    // A checkpoint from before cooling, independence proposals or fewer posterior chains
+    // goes on as it began.
     s.options.cool_after_settling = false;
     s.options.independence_share = 0.0;
+    s.options.posterior_chains = 0;
     if (!FromJson(j.at("options"), &s.options, &why)) throw std::invalid_argument(why);
     for (const json& p : j.at("parameters")) {
       ParameterSpec spec;
@@ -339,6 +341,8 @@ State StateFromJson(const json& j) {
       Sample row;
       row.iteration = ReadInteger<int>(rows["iteration"][i]);
       row.chain = ReadInteger<int>(rows["chain"][i]);
+      if (row.chain < 0 || row.chain >= std::max(s.options.chains, s.PosteriorChains()))
+        throw std::invalid_argument("samples: chain out of range");
       row.level = ReadInteger<int>(rows["level"][i]);
       row.temperature = ReadNumber(rows["temperature"][i]);
       row.accepted = rows["accepted"][i].get<bool>();

@@ -65,6 +65,12 @@ bool State::Cooled() const {
   return options.cool_after_settling && options.settle && settle_rounds >= options.settle_rounds;
 }
 
+int State::PosteriorChains() const {
+  if (!Cooled()) return options.chains;
+  const int all = options.chains * options.temperatures;
+  return options.posterior_chains > 0 ? std::min(options.posterior_chains, all) : all;
+}
+
 int State::AdaptStart() const {
   return std::max(options.AnnealIterations(), options.CoarseIterations());
 }
@@ -212,35 +218,42 @@ struct Engine {
     std::vector<double> temperature(temps);
     for (int k = 0; k < temps; ++k) temperature[k] = s.Temperature(t, k);
 
-    // Proposals, one batch.
+    // Proposals, one batch, from the replicas that sample (State::Samples): slot[c][k] is
+    // replica k of chain c's place in it, −1 for none.
+    std::vector<std::vector<int>> slot(size_t(chains), std::vector<int>(size_t(temps), -1));
     std::vector<Proposal> proposals;
     std::vector<std::vector<double>> batch;
     std::vector<double> proposal_prior;
-    for (ChainState& c : s.chains)
+    for (int c = 0; c < chains; ++c)
       for (int k = 0; k < temps; ++k) {
-        proposals.push_back(Propose(s, c, k, temperature[k]));
+        if (!s.Samples(c, k)) continue;
+        ChainState& chain = s.chains[size_t(c)];
+        slot[size_t(c)][size_t(k)] = int(batch.size());
+        proposals.push_back(Propose(s, chain, k, temperature[k]));
         proposal_prior.push_back(LogPrior(s.parameters, proposals.back().psi));
         // Outside the support: rejected unscored; the slot carries the current state.
         batch.push_back(std::isfinite(proposal_prior.back()) ? proposals.back().psi
-                                                             : c.replicas[k].psi);
+                                                             : chain.replicas[k].psi);
       }
+    const size_t sampled = batch.size();
     // The evidence ladder's hypotheses ride in the same batch (nothing when it is off).
     EvidenceProposal ladder;
     if (s.options.evidence_rungs > 0) ladder = EvidenceProposals(s, t, batch);
     const std::vector<double> values = Evaluate(batch);
 
     // Metropolis–Hastings on log p + log L / T.
-    std::vector<char> accepted(batch.size(), 0), swapped(batch.size(), 0);
+    std::vector<char> accepted(sampled, 0), swapped(sampled, 0);
     for (int c = 0; c < chains; ++c) {
       ChainState& chain = s.chains[c];
       for (int k = 0; k < temps; ++k) {
-        const size_t i = size_t(c * temps + k);
+        const int i = slot[size_t(c)][size_t(k)];
+        if (i < 0) continue;
         Replica& r = chain.replicas[k];
-        Proposal& proposal = proposals[i];
+        Proposal& proposal = proposals[size_t(i)];
         ++r.proposed;
         r.independent_proposed += proposal.independent;
         const double log_u = std::log(chain.rng.UniformOpen());
-        const double lp = proposal_prior[i], ll = values[i];
+        const double lp = proposal_prior[size_t(i)], ll = values[size_t(i)];
         const bool scored = std::isfinite(lp) && std::isfinite(ll);
         const double current = r.log_prior + r.log_likelihood / temperature[k];
         const double proposed = lp + ll / temperature[k];
@@ -261,11 +274,12 @@ struct Engine {
           r.log_likelihood = ll;
           ++r.accepted;
           r.independent_accepted += proposal.independent;
-          accepted[i] = 1;
+          accepted[size_t(i)] = 1;
         }
       }
-      // Replica exchange between neighbours, even and odd pairs in turn. The prior is not
-      // tempered, so only the likelihoods enter the ratio.
+      // Replica exchange between neighbours, even and odd pairs in turn (only before cooling,
+      // when every replica samples). The prior is not tempered, so only the likelihoods enter
+      // the ratio.
       if (temps > 1 && !s.Cooled() && t % s.options.swap_interval == 0) {
         for (int k = (t / s.options.swap_interval) % 2; k + 1 < temps; k += 2) {
           Replica& cold = chain.replicas[k];
@@ -279,17 +293,19 @@ struct Engine {
           std::swap(cold.log_prior, hot.log_prior);
           std::swap(cold.log_likelihood, hot.log_likelihood);
           ++chain.swap_accepts[k];
-          swapped[size_t(c * temps + k)] = swapped[size_t(c * temps + k + 1)] = 1;
+          swapped[size_t(slot[size_t(c)][size_t(k)])] = swapped[size_t(slot[size_t(c)][size_t(k + 1)])] = 1;
         }
       }
     }
 
-    if (!ladder.psi.empty()) EvidenceStep(s, t, std::move(ladder), values.data() + chains * temps);
+    if (!ladder.psi.empty()) EvidenceStep(s, t, std::move(ladder), values.data() + sampled);
 
     // Adaptation statistics (Welford), once the target distribution stopped moving.
     if (s.options.adapt && t >= s.AdaptStart())
-      for (ChainState& chain : s.chains)
-        for (Replica& r : chain.replicas) {
+      for (int c = 0; c < chains; ++c)
+        for (int k = 0; k < temps; ++k) {
+          if (!s.Samples(c, k)) continue;
+          Replica& r = s.chains[size_t(c)].replicas[size_t(k)];
           const Eigen::Map<const Eigen::VectorXd> x(r.psi.data(), d);
           ++r.adapt_count;
           const Eigen::VectorXd delta = x - r.adapt_mean;
@@ -297,17 +313,20 @@ struct Engine {
           r.adapt_scatter += delta * (x - r.adapt_mean).transpose();
         }
 
-    // The coldest replica of every chain; once cooled, every replica, as chain k·chains + c.
+    // The coldest replica of every chain; once cooled, every replica that samples, as chain
+    // k·chains + c.
     for (int k = 0; k < (s.Cooled() ? temps : 1); ++k)
       for (int c = 0; c < chains; ++c) {
+        const int i = slot[size_t(c)][size_t(k)];
+        if (i < 0) continue;
         const Replica& r = s.chains[c].replicas[k];
         Sample row;
         row.iteration = t;
         row.chain = k * chains + c;
         row.level = s.level;
         row.temperature = temperature[k];
-        row.accepted = accepted[size_t(c * temps + k)];
-        row.swapped = swapped[size_t(c * temps + k)];
+        row.accepted = accepted[size_t(i)];
+        row.swapped = swapped[size_t(i)];
         row.log_prior = r.log_prior;
         row.log_likelihood = r.log_likelihood;
         row.psi = r.psi;

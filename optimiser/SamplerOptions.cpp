@@ -35,6 +35,7 @@ void ForEachField(Options& o, F&& f) {
   f("anneal_schedule", o.anneal_schedule);
   f("burn_in_fraction", o.burn_in_fraction);
   f("cool_after_settling", o.cool_after_settling);
+  f("posterior_chains", o.posterior_chains);
   f("independence_share", o.independence_share);
   f("proposal_scale", o.proposal_scale);
   f("init_jitter", o.init_jitter);
@@ -110,6 +111,7 @@ bool SamplerOptions::IsValid(std::string* why) const {
   if (CoarseIterations() > BurnIn())
     return OptionsFail(why, "coarse_fraction must not exceed burn_in_fraction: coarse-level states "
                      "are not posterior samples");
+  if (posterior_chains < 0) return OptionsFail(why, "posterior_chains must be ≥ 0 (0: all)");
   if (!(std::isfinite(independence_share) && independence_share >= 0.0 && independence_share <= 1.0))
     return OptionsFail(why, "independence_share must lie in [0, 1]");
   if (!(std::isfinite(proposal_scale) && proposal_scale > 0.0))

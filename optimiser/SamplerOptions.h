@@ -92,6 +92,12 @@ struct SamplerOptions {
   // would otherwise spend three quarters of every frame on states that are not draws.
   // Replica exchange stops then; the posterior statistics pool chains × temperatures chains.
   bool cool_after_settling = true;
+  // Of those chains × temperatures chains at T = 1, how many go on sampling (0: all). On
+  // both devices measured a frame costs about its number of hypotheses (bench's batch sweep:
+  // 16 cost 16 on lavapipe, 13 on an H200), and R̂ needs about 100 effective draws from each
+  // chain however many there are, so 4 chains reach it in about a quarter of the evaluations
+  // 16 take. Reads min(posterior_chains, chains × temperatures).
+  int posterior_chains = 4;
   // After settling, this share of the proposals is drawn independently of the current state
   // from a multivariate t (ν = 8) around the mode, with the covariance the random walk uses
   // (the Laplace approximation blended with the replica's adapted one), and accepted by the

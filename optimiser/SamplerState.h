@@ -138,9 +138,13 @@ struct State {
   double AnnealTemperature(int iteration) const;  // of the coldest replicas
   double Temperature(int iteration, int replica) const;
   // Whether every replica samples at T = 1 as a chain of its own (cool_after_settling, once
-  // the last settling round is done), and how many chains the posterior draws then pool.
+  // the last settling round is done), and how many chains the posterior draws then pool:
+  // replica k of chain c is chain k·chains + c, and those below posterior_chains sample.
   bool Cooled() const;
-  int PosteriorChains() const { return Cooled() ? options.chains * options.temperatures : options.chains; }
+  int PosteriorChains() const;
+  bool Samples(int chain, int replica) const {
+    return !Cooled() || replica * options.chains + chain < PosteriorChains();
+  }
   int AdaptStart() const;                 // first iteration whose states adaptation collects
   bool SettlesAt(int iteration) const;    // whether settling comes before this iteration
   int NextSettleAt() const;               // iteration of the next settling round; −1: none due

@@ -43,7 +43,7 @@ std::vector<std::vector<std::vector<double>>> PosteriorDraws(const State& s) {
   std::vector<std::vector<std::vector<double>>> draws(
       size_t(d), std::vector<std::vector<double>>{size_t(chains)});
   for (const Sample& row : s.samples) {
-    if (row.iteration < burn_in) continue;
+    if (row.iteration < burn_in || row.chain >= chains) continue;
     for (int i = 0; i < d; ++i) draws[size_t(i)][size_t(row.chain)].push_back(row.psi[size_t(i)]);
   }
   return draws;

@@ -145,6 +145,29 @@ TEST(Checkpoint, CheckpointFromBeforeCoolingGoesOnAsItBegan) {
   ExpectSameSummary(straight, resumed);
 }
 
+// A checkpoint written before posterior_chains (every cooled replica sampled on) resumes
+// with all of them, mid-run after cooling as before it.
+TEST(Checkpoint, CheckpointFromBeforePosteriorChainsKeepsEveryReplica) {
+  SamplerOptions all = Options();
+  all.posterior_chains = 0;
+  FunctionTarget straight_target(LevelledTarget, 9, 3);
+  SamplerSummary straight;
+  ASSERT_TRUE(opt::Run(all, Parameters(), straight_target, &straight)) << straight.message;
+  EXPECT_EQ(straight.posterior_chains, 9);
+  for (const int at : {100, 250}) {
+    SCOPED_TRACE(at);
+    FunctionTarget target(LevelledTarget, 9, 3);
+    Sampler sampler(all, Parameters(), target);
+    while (sampler.progress().iteration < at) sampler.Step();
+    nlohmann::json old = sampler.Checkpoint();
+    old["options"].erase("posterior_chains");
+    FunctionTarget resumed_target(LevelledTarget, 9, 3);
+    SamplerSummary resumed;
+    ASSERT_TRUE(Resume(old, resumed_target, &resumed)) << resumed.message;
+    ExpectSameSummary(straight, resumed);
+  }
+}
+
 TEST(Checkpoint, MismatchedOrMalformedCheckpointsAreRejected) {
   FunctionTarget target(LevelledTarget, 9, 3);
   Sampler sampler(Options(), Parameters(), target);

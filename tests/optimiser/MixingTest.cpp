@@ -103,17 +103,28 @@ TEST(Mixing, DefaultsConvergeOnARidgeAndDescribeIt) {
     legacy_options.cool_after_settling = false;
     legacy_options.independence_share = 0.0;
     const Mixing legacy = Measure(ridge, legacy_options);
-    for (const Mixing* m : {&legacy, &today})
-      std::printf("seed %u %s: converged %d after %lld evaluations, min bulk ESS %.0f, %.1f per 1,000 "
+    // Every cooled replica sampling on (16 chains) instead of 4.
+    SamplerOptions all_options = SceneDefaults(seed);
+    all_options.posterior_chains = 0;
+    const Mixing all = Measure(ridge, all_options);
+    for (const auto& [name, m] : {std::pair{"legacy", &legacy}, {"16 chains", &all}, {"today", &today}})
+      std::printf("seed %u %-9s: converged %d after %lld evaluations, min bulk ESS %.0f, %.1f per 1,000 "
                   "evaluations; worst |mean − μ| %.2f MCSE, worst sd ratio %.2f\n",
-                  seed, m == &today ? "today " : "legacy", m->converged, (long long)m->evaluations, m->min_ess,
-                  m->ess_per_1000, m->worst_mean_z, m->worst_sd_ratio);
+                  seed, name, m->converged, (long long)m->evaluations, m->min_ess, m->ess_per_1000,
+                  m->worst_mean_z, m->worst_sd_ratio);
     EXPECT_TRUE(today.converged);
     EXPECT_LT(today.worst_mean_z, 4.5);
     EXPECT_NEAR(today.worst_sd_ratio, 1.0, 0.15);
-    // Measured 88–110 against 9–16 (3 seeds): at least 4× with margin for a change of streams.
-    EXPECT_GT(today.ess_per_1000, 4.0 * legacy.ess_per_1000);
-    EXPECT_LT(today.evaluations, legacy.evaluations);
+    // Cooling and independence proposals: 142–145 against 9–16 per 1,000 evaluations (3
+    // seeds), at least 4× with margin for a change of streams.
+    EXPECT_GT(all.ess_per_1000, 4.0 * legacy.ess_per_1000);
+    // R̂ asks each chain for the same effective draws however many chains there are: four
+    // get there in fewer evaluations than sixteen (7,557–9,258 against 11,067–12,938), and
+    // in about a quarter of the legacy sampler's (28,054–48,667). A run of four stops once
+    // it has the draws it needs, so its ESS per 1,000 evaluations (65–94) is lower than
+    // sixteen's, which stop with four times the ESS asked for.
+    EXPECT_LT(today.evaluations, all.evaluations);
+    EXPECT_LT(2.5 * today.evaluations, legacy.evaluations);
   }
 }
 

@@ -51,11 +51,11 @@ TEST(Sampler, RecoversACorrelatedGaussianPosterior) {
   ASSERT_TRUE(opt::Run(o, g.Parameters(), target, &s)) << s.message;
   EXPECT_EQ(s.termination, Termination::Completed);
   EXPECT_EQ(s.burn_in, 1800);
-  // Once settled, every replica samples at T = 1 as a chain of its own: 16 posterior chains.
-  ASSERT_EQ(s.posterior_chains, 16);
+  // Once settled, the replicas sample at T = 1 as chains of their own, 4 of them by default.
+  ASSERT_EQ(s.posterior_chains, 4);
   size_t posterior_rows = 0;
   for (const Sample& row : s.chain) posterior_rows += row.iteration >= s.burn_in;
-  ASSERT_EQ(posterior_rows, size_t((6000 - 1800) * 16));
+  ASSERT_EQ(posterior_rows, size_t((6000 - 1800) * 4));
 
   for (int i = 0; i < 2; ++i) {
     const ParameterSummary& p = s.parameters[size_t(i)];
@@ -153,6 +153,40 @@ SamplerOptions ConvergenceOptions() {
 // iterations "auto": sampling goes on until every R̂ ≤ 1.01 and bulk-ESS ≥ 400 (checked
 // every convergence_interval iterations), and no longer; max_iterations and a caller's
 // time limit end it too, and the summary says which.
+// Once cooled, replica k of chain c samples as chain k·chains + c while that is below
+// posterior_chains (0: every replica); the others stop, and a frame evaluates only those
+// that sample.
+TEST(Sampler, OnlyThePosteriorChainsSampleOnceCooled) {
+  const CorrelatedGaussian g;
+  const Gaussian log_density(g.mu, g.Covariance());
+  for (const int asked : {6, 0, 40}) {
+    SCOPED_TRACE(asked);
+    const int expected = asked == 0 || asked > 16 ? 16 : asked;
+    RecordingTarget target([&](const std::vector<double>& x, int) { return log_density(x); }, 16, 1,
+                           g.Parameters());
+    SamplerOptions o;
+    o.iterations = 400;
+    o.until_converged = false;
+    o.chains = 4;
+    o.temperatures = 4;
+    o.posterior_chains = asked;
+    o.coarse_levels = 1;
+    o.refine_steps = 0;
+    o.seed = 5;
+    SamplerSummary s;
+    ASSERT_TRUE(opt::Run(o, g.Parameters(), target, &s)) << s.message;
+    EXPECT_EQ(s.posterior_chains, expected);
+    std::vector<int> rows(16, 0);
+    for (const Sample& row : s.chain)
+      if (row.iteration >= s.burn_in) ++rows[size_t(row.chain)];
+    for (int chain = 0; chain < 16; ++chain)
+      EXPECT_EQ(rows[size_t(chain)], chain < expected ? 400 - s.burn_in : 0) << "chain " << chain;
+    // The last frames of sampling evaluated one hypothesis per posterior chain.
+    ASSERT_FALSE(target.batch_sizes.empty());
+    EXPECT_EQ(target.batch_sizes.back(), expected);
+  }
+}
+
 TEST(Sampler, UntilConvergedStopsWhenRhatAndEssMeetTheirTargets) {
   const CorrelatedGaussian g;
   const Gaussian log_density(g.mu, g.Covariance());

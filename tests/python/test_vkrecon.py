@@ -163,9 +163,9 @@ def test_the_draws_are_the_chains_after_burn_in(box_run):
     written = json.load(open(out / "python" / "map.json"))
     draws, chains = summary.draws, summary.draw_chains
     per_chain = written["iterations"] - written["burn_in"]
-    # Every replica samples as a chain of its own once settled: map.json's posterior_chains.
+    # Once settled, the replicas sample as chains of their own: map.json's posterior_chains.
     n = written["posterior_chains"]
-    assert n == 4  # 2 chains of 2 replicas
+    assert n == 4  # 2 chains of 2 replicas, all four (posterior_chains: 4)
     assert draws.shape == (n * per_chain, len(scene.parameter_names))
     assert list(chains) == [c for c in range(n) for _ in range(per_chain)]
     lines = [line for line in open(out / "python" / "chains" / "stan-1.csv") if not line.startswith("#")]
