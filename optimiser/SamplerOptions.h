@@ -90,7 +90,7 @@ struct SamplerOptions {
   // Once the last settling round has restarted the replicas around the mode, every replica
   // samples at T = 1 as a chain of its own: tempering is for finding modes, and hot replicas
   // would otherwise spend three quarters of every frame on states that are not draws.
-  // Replica exchange stops then; the posterior statistics pool chains × temperatures chains.
+  // Replica exchange stops then; the posterior statistics pool the chains that sample on.
   bool cool_after_settling = true;
   // Of those chains × temperatures chains at T = 1, how many go on sampling (0: all). On
   // both devices measured a frame costs about its number of hypotheses (bench's batch sweep:
