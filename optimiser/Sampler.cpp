@@ -304,7 +304,7 @@ struct Engine {
     if (s.options.adapt && t >= s.AdaptStart())
       for (int c = 0; c < chains; ++c)
         for (int k = 0; k < temps; ++k) {
-          if (!s.Samples(c, k)) continue;
+          if (slot[size_t(c)][size_t(k)] < 0) continue;
           Replica& r = s.chains[size_t(c)].replicas[size_t(k)];
           const Eigen::Map<const Eigen::VectorXd> x(r.psi.data(), d);
           ++r.adapt_count;
