@@ -352,6 +352,11 @@ struct Engine {
   void EndSampling(const char* why) {
     MeasureConvergence(s);
     s.ended_by = why;
+    // Convergence is checked every convergence_interval iterations; draws that meet the
+    // targets when the time limit falls between two checks have converged all the same.
+    if (s.options.until_converged && s.ended_by == "time_limit" && s.max_rhat <= s.options.target_rhat &&
+        s.min_ess >= s.options.target_ess)
+      s.ended_by = "converged";
     s.sampling_best = s.best.valid && s.best.level == 0 ? s.best.log_posterior() : -kInf;
     if (s.options.refine_steps > 0 && s.best.valid && s.best.level == 0) {
       s.phase = Phase::Refining;

@@ -160,8 +160,8 @@ struct SamplerSummary {
   int iterations = 0;  // sampling iterations done
   int burn_in = 0;
   // What ended the sampling: "iterations" (the fixed count), "converged" (R̂ and ESS met
-  // their targets), "max_iterations", "time_limit" (FrameRequest::finish_sampling); empty
-  // while it runs.
+  // their targets, at a check or when a time limit ended it), "max_iterations", "time_limit"
+  // (FrameRequest::finish_sampling before they met them); empty while it runs.
   std::string ended_by;
   double max_rhat = 0.0, min_ess = 0.0;  // Progress's, at the end of sampling
   int refine_steps = 0;

@@ -236,6 +236,25 @@ TEST(Sampler, UntilConvergedStopsWhenRhatAndEssMeetTheirTargets) {
   ASSERT_TRUE(opt::Run(endless, g.Parameters(), target, &l, callbacks)) << l.message;
   EXPECT_EQ(l.ended_by, "time_limit");
   EXPECT_EQ(l.iterations, o.iterations);
+  // A time limit that falls between two checks after the draws have met the targets: they
+  // have converged (here with the converged run's draws, checks too rare to see them).
+  SamplerOptions rare = o;
+  rare.convergence_interval = 100000;
+  SamplerSummary c;
+  callbacks.on_frame = [&](const Progress& p) {
+    FrameRequest r;
+    r.finish_sampling = p.iteration >= s.iterations;
+    return r;
+  };
+  ASSERT_TRUE(opt::Run(rare, g.Parameters(), target, &c, callbacks)) << c.message;
+  EXPECT_EQ(c.iterations, s.iterations);
+  EXPECT_EQ(c.ended_by, "converged");
+  EXPECT_EQ(c.max_rhat, s.max_rhat);
+  callbacks.on_frame = [](const Progress& p) {
+    FrameRequest r;
+    r.finish_sampling = p.iteration >= 10;
+    return r;
+  };
   SamplerOptions fixed = o;
   fixed.until_converged = false;
   SamplerSummary f;
