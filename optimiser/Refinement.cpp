@@ -91,7 +91,12 @@ void FinishRefinement(State& s) {
 
 void StartRefinement(State& s) {
   s.refine = RefineState{};
-  s.refine.inverse_hessian = InitialInverseHessian(s);
+  // A later settling round starts from the curvature the last one measured at the mode: the
+  // proposal's scale (reset at the restart) is tens of times wider than the posterior, and
+  // almost every step it proposed was shortened four to ten times before one was accepted.
+  const bool settling_again = s.phase != Phase::Refining && s.settle_rounds > 0 &&
+                              s.laplace.rows() == s.dimension();
+  s.refine.inverse_hessian = settling_again ? s.laplace : InitialInverseHessian(s);
   s.refine.candidate = s.best.psi;
 }
 

@@ -28,14 +28,22 @@ constexpr double kMaxNewtonSteps = 4.0;  // stencil steps along any axis
 // Finite-difference step per parameter: about one posterior sd, as the refinement's
 // inverse Hessian estimates it. Steps far below the sd measure rasterisation steps of
 // the likelihood rather than its curvature; steps far above it leave the quadratic region.
+// In later rounds, whose calibration sets the κ the chains sample at, the largest step:
+// there the likelihood's roughness at one posterior sd made κ fall below 1 and the chains
+// stick (docs/internals/DECISIONS.md, "The settling refinement").
+constexpr double kLargestCurvatureStep = 0.02;  // of the prior width
 std::vector<double> CurvatureSteps(const State& s) {
   const int d = s.dimension();
   std::vector<double> h(static_cast<size_t>(d), 0.0);
   for (int i = 0; i < d; ++i) {
     const double w = s.parameters[size_t(i)].Width();
+    if (s.settle_rounds > 0) {
+      h[size_t(i)] = kLargestCurvatureStep * w;
+      continue;
+    }
     double sd = s.refine.inverse_hessian.rows() == d ? std::sqrt(std::max(s.refine.inverse_hessian(i, i), 0.0)) : 0.0;
     if (!std::isfinite(sd)) sd = 0.0;
-    h[size_t(i)] = std::clamp(sd, 1e-5 * w, 0.02 * w);
+    h[size_t(i)] = std::clamp(sd, 1e-5 * w, kLargestCurvatureStep * w);
   }
   return h;
 }

@@ -72,6 +72,17 @@ SamplerOptions NarrowOptions() {
   return o;
 }
 
+// A sampler state on the narrow posterior with `chains` chains of two replicas, as the
+// sampler hands it to a settling frame.
+detail::State NarrowState(const NarrowPosterior& n, int chains) {
+  detail::State s;
+  s.options = NarrowOptions();
+  s.parameters = n.Parameters();
+  s.chains.resize(size_t(chains));
+  for (detail::ChainState& chain : s.chains) chain.replicas.resize(2);
+  return s;
+}
+
 TEST(Settle, NarrowPosteriorIsFoundAndSampledWithTheRightSpread) {
   const NarrowPosterior n;
   const Gaussian g(n.mu, n.Covariance());
@@ -235,11 +246,7 @@ class CauchyTailTarget : public Target {
 TEST(Settle, TheRestartClimbsWhereTheCurvatureIsNotAMaximum) {
   const NarrowPosterior n;
   CauchyTailTarget target(n, 4.0);
-  detail::State s;
-  s.options = NarrowOptions();
-  s.parameters = n.Parameters();
-  s.chains.resize(2);
-  for (detail::ChainState& chain : s.chains) chain.replicas.resize(2);
+  detail::State s = NarrowState(n, 2);
   s.refine.have_point = true;
   s.refine.psi = {n.mu[0] + 3 * n.sd[0], n.mu[1], n.mu[2], n.mu[3]};
   s.refine.inverse_hessian = n.Covariance();  // curvature steps of one sd
@@ -266,11 +273,7 @@ TEST(Settle, TheRestartClimbsWhereTheCurvatureIsNotAMaximum) {
 TEST(Settle, TheRestartStaysWhereTheCurvatureIsAMaximum) {
   const NarrowPosterior n;
   CalibratingTarget target(Gaussian(n.mu, n.Covariance()), 4.0);
-  detail::State s;
-  s.options = NarrowOptions();
-  s.parameters = n.Parameters();
-  s.chains.resize(1);
-  s.chains[0].replicas.resize(2);
+  detail::State s = NarrowState(n, 1);
   s.refine.have_point = true;
   s.refine.psi = {n.mu[0] + 3 * n.sd[0], n.mu[1] - 2 * n.sd[1], n.mu[2], n.mu[3]};
   s.refine.inverse_hessian = n.Covariance();
@@ -278,6 +281,54 @@ TEST(Settle, TheRestartStaysWhereTheCurvatureIsAMaximum) {
   EXPECT_EQ(target.calibrated_at, s.refine.psi);
   EXPECT_EQ(s.best.psi, s.refine.psi);
   EXPECT_EQ(s.calibration.value("mode_moves", -1), 0);
+}
+
+// A later settling round's refinement starts from the curvature the last round measured
+// (the proposal's scale, reset at the restart, is tens of times wider than the posterior);
+// the first round and the final refinement start as before.
+TEST(Settle, ALaterRoundRefinesFromTheLastRoundsCurvature) {
+  const NarrowPosterior n;
+  detail::State s = NarrowState(n, 1);
+  s.best.valid = true;
+  s.best.psi = {n.mu[0], n.mu[1], n.mu[2], n.mu[3]};
+  s.phase = Phase::Sampling;
+  detail::StartRefinement(s);
+  EXPECT_NEAR(std::sqrt(s.refine.inverse_hessian(0, 0)), s.options.proposal_scale * 2.0, 1e-12);
+
+  s.settle_rounds = 1;
+  s.laplace = n.Covariance();
+  detail::StartRefinement(s);
+  EXPECT_EQ(s.refine.inverse_hessian, s.laplace);
+
+  s.phase = Phase::Refining;  // after sampling: the sample's covariance or the proposal's
+  detail::StartRefinement(s);
+  EXPECT_NE(s.refine.inverse_hessian, s.laplace);
+}
+
+// In a later round, whose calibration sets the κ the chains sample at, the curvature is
+// measured 2 % of the prior width apart whatever the refinement estimated; in the first,
+// one sd of the refinement's estimate apart.
+TEST(Settle, ALaterRoundMeasuresTheCurvatureTwoPercentOfThePriorApart) {
+  const NarrowPosterior n;
+  for (const int round : {0, 1}) {
+    CalibratingTarget target(Gaussian(n.mu, n.Covariance()), 4.0);
+    detail::State s = NarrowState(n, 1);
+    s.settle_rounds = round;
+    s.refine.have_point = true;
+    s.refine.psi = {n.mu[0], n.mu[1], n.mu[2], n.mu[3]};
+    s.refine.inverse_hessian = n.Covariance();
+    double step = 0.0;  // the first stencil point's move along the first parameter
+    bool first = true;
+    detail::RestartFrame(s, target, [&](const std::vector<std::vector<double>>& batch) {
+      if (first && batch.size() > 1) step = batch[1][0] - batch[0][0];
+      first = false;
+      return target.Evaluate(batch);
+    });
+    const double expected = round == 0 ? n.sd[0] : 0.02 * 2.0;
+    EXPECT_NEAR(step, expected, 1e-9 * expected) << "round " << round;
+    // A Gaussian's curvature is the same at any step: the Laplace sd is √κ times the truth's.
+    EXPECT_NEAR(std::sqrt(s.laplace(0, 0)), 2.0 * n.sd[0], 0.01 * n.sd[0]) << "round " << round;
+  }
 }
 
 }  // namespace
