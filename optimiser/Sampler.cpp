@@ -342,11 +342,16 @@ struct Engine {
     if (!s.options.until_converged) {
       if (s.iteration == s.options.iterations) EndSampling("iterations");
     } else if (s.iteration >= s.options.iterations) {
-      if (check && s.max_rhat <= s.options.target_rhat && s.min_ess >= s.options.target_ess)
+      if (check && TargetsMet())
         EndSampling("converged");
       else if (s.iteration >= s.options.max_iterations)
         EndSampling("max_iterations");
     }
+  }
+
+  // Whether the last convergence measurement meets R̂ and ESS targets.
+  bool TargetsMet() const {
+    return s.max_rhat <= s.options.target_rhat && s.min_ess >= s.options.target_ess;
   }
 
   void EndSampling(const char* why) {
@@ -354,9 +359,7 @@ struct Engine {
     s.ended_by = why;
     // Convergence is checked every convergence_interval iterations; draws that meet the
     // targets when the time limit falls between two checks have converged all the same.
-    if (s.options.until_converged && s.ended_by == "time_limit" && s.max_rhat <= s.options.target_rhat &&
-        s.min_ess >= s.options.target_ess)
-      s.ended_by = "converged";
+    if (s.options.until_converged && s.ended_by == "time_limit" && TargetsMet()) s.ended_by = "converged";
     s.sampling_best = s.best.valid && s.best.level == 0 ? s.best.log_posterior() : -kInf;
     if (s.options.refine_steps > 0 && s.best.valid && s.best.level == 0) {
       s.phase = Phase::Refining;
