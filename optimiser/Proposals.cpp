@@ -27,18 +27,52 @@ struct Shape {
   Eigen::VectorXd centre;
 };
 
+// The states adaptation collected: the replica's own; once cooled, those of every replica
+// that samples, pooled (Welford's statistics combined). They all sample one posterior then,
+// and four chains' states outweigh the Laplace approximation four times sooner: where its
+// curvature was measured wider than the posterior (2 % of the prior apart), the proposals
+// were too wide, and acceptance rose from 0.2 to 0.55 over a run's first thousand iterations.
+struct Adapted {
+  int64_t count = 0;
+  Eigen::VectorXd mean;
+  Eigen::MatrixXd scatter;
+};
+
+Adapted AdaptedStates(const State& s, const Replica& r) {
+  if (!s.Cooled()) return {r.adapt_count, r.adapt_mean, r.adapt_scatter};
+  const int d = s.dimension();
+  Adapted out{0, Eigen::VectorXd::Zero(d), Eigen::MatrixXd::Zero(d, d)};
+  std::vector<const Replica*> pooled;
+  for (int c = 0; c < s.options.chains; ++c)
+    for (int k = 0; k < s.options.temperatures; ++k)
+      if (s.Samples(c, k) && s.chains[size_t(c)].replicas[size_t(k)].adapt_count > 0)
+        pooled.push_back(&s.chains[size_t(c)].replicas[size_t(k)]);
+  for (const Replica* p : pooled) {
+    out.count += p->adapt_count;
+    out.mean += double(p->adapt_count) * p->adapt_mean;
+  }
+  if (out.count == 0) return out;
+  out.mean /= double(out.count);
+  for (const Replica* p : pooled) {
+    const Eigen::VectorXd offset = p->adapt_mean - out.mean;
+    out.scatter += p->adapt_scatter + double(p->adapt_count) * offset * offset.transpose();
+  }
+  return out;
+}
+
 Shape ReplicaShape(const State& s, const Replica& r, double temperature) {
   const int d = s.dimension();
   const bool settled = s.laplace.rows() == d;
   Shape out;
-  if (s.options.adapt && r.adapt_count >= s.options.adapt_min_samples) {
-    out.covariance = r.adapt_scatter / double(r.adapt_count - 1);
-    out.centre = r.adapt_mean;
+  const Adapted a = s.options.adapt ? AdaptedStates(s, r) : Adapted{};
+  if (s.options.adapt && a.count >= s.options.adapt_min_samples) {
+    out.covariance = a.scatter / double(a.count - 1);
+    out.centre = a.mean;
     if (settled) {
-      const double n0 = double(s.options.adapt_min_samples), n = double(r.adapt_count - 1);
+      const double n0 = double(s.options.adapt_min_samples), n = double(a.count - 1);
       out.covariance = (n * out.covariance + n0 * temperature * s.laplace) / (n + n0);
       if (int(s.mode.size()) == d)
-        out.centre = (n * r.adapt_mean + n0 * Eigen::Map<const Eigen::VectorXd>(s.mode.data(), d)) / (n + n0);
+        out.centre = (n * a.mean + n0 * Eigen::Map<const Eigen::VectorXd>(s.mode.data(), d)) / (n + n0);
     } else {
       for (int i = 0; i < d; ++i) {
         const double w = s.parameters[size_t(i)].Width();

@@ -100,7 +100,8 @@ struct SamplerOptions {
   int posterior_chains = 4;
   // After settling, this share of the proposals is drawn independently of the current state
   // from a multivariate t (ν = 8) around the mode, with the covariance the random walk uses
-  // (the Laplace approximation blended with the replica's adapted one), and accepted by the
+  // (the Laplace approximation blended with the adapted one, whose states are all posterior
+  // chains' once cooled), and accepted by the
   // Metropolis–Hastings ratio with the proposal's densities. Where the posterior is near the
   // Laplace approximation a draw is nearly independent of the last; the random walk keeps
   // the rest. 0: the random walk only.
@@ -115,7 +116,8 @@ struct SamplerOptions {
 
   // Adaptive Metropolis (Haario et al. 2001): once annealing and the coarse levels are over
   // and a replica has collected `adapt_min_samples` states, its proposal covariance becomes
-  // 2.38²/d · (Σ + ε·diag(width²)), Σ the covariance of its states so far.
+  // 2.38²/d · (Σ + ε·diag(width²)), Σ the covariance of its states so far (once cooled, of
+  // the states of every replica that samples, pooled: they sample one posterior).
   bool adapt = true;
   int adapt_min_samples = 100;  // ≥ 2
   double adapt_epsilon = 1e-6;  // ε, > 0: keeps the covariance positive definite
