@@ -29,9 +29,8 @@ struct Shape {
 
 // The states adaptation collected: the replica's own; once cooled, those of every replica
 // that samples, pooled (Welford's statistics combined). They all sample one posterior then,
-// and four chains' states outweigh the Laplace approximation four times sooner: where its
-// curvature was measured wider than the posterior (2 % of the prior apart), the proposals
-// were too wide, and acceptance rose from 0.2 to 0.55 over a run's first thousand iterations.
+// and four chains' states outweigh the Laplace approximation, which can be twice the
+// posterior's width, four times sooner (docs/internals/DECISIONS.md, "Once cooled…").
 struct Adapted {
   int64_t count = 0;
   Eigen::VectorXd mean;
