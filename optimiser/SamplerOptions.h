@@ -101,10 +101,9 @@ struct SamplerOptions {
   // After settling, this share of the proposals is drawn independently of the current state
   // from a multivariate t (ν = 8) around the mode, with the covariance the random walk uses
   // (the Laplace approximation blended with the adapted one, whose states are all posterior
-  // chains' once cooled), and accepted by the
-  // Metropolis–Hastings ratio with the proposal's densities. Where the posterior is near the
-  // Laplace approximation a draw is nearly independent of the last; the random walk keeps
-  // the rest. 0: the random walk only.
+  // chains' once cooled), and accepted by the Metropolis–Hastings ratio with the proposal's
+  // densities. Where the posterior is near the Laplace approximation a draw is nearly
+  // independent of the last; the random walk keeps the rest. 0: the random walk only.
   double independence_share = 0.8;
 
   // Random-walk proposal sd of each parameter as a fraction of its prior width (Width()),
